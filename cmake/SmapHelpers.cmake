@@ -1,0 +1,23 @@
+# Helpers that keep every library and app target alike.
+
+set(SMAP_WARNINGS -Wall -Wextra -Wpedantic -Wshadow -Wnon-virtual-dtor)
+
+# smap_add_library(NAME SOURCES ... PUBLIC_DEPS ... PRIVATE_DEPS ...)
+# Creates target smap_<NAME> (alias smap::<NAME>) with headers under include/smap/<NAME>/.
+function(smap_add_library name)
+    cmake_parse_arguments(ARG "" "" "SOURCES;PUBLIC_DEPS;PRIVATE_DEPS" ${ARGN})
+    add_library(smap_${name} STATIC ${ARG_SOURCES})
+    add_library(smap::${name} ALIAS smap_${name})
+    target_include_directories(smap_${name} PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}/include)
+    target_link_libraries(smap_${name} PUBLIC ${ARG_PUBLIC_DEPS} PRIVATE ${ARG_PRIVATE_DEPS})
+    target_compile_options(smap_${name} PRIVATE ${SMAP_WARNINGS})
+    set_target_properties(smap_${name} PROPERTIES POSITION_INDEPENDENT_CODE ON)
+endfunction()
+
+# smap_add_app(NAME SOURCES ... DEPS ...): an executable in <build>/bin.
+function(smap_add_app name)
+    cmake_parse_arguments(ARG "" "" "SOURCES;DEPS" ${ARGN})
+    add_executable(${name} ${ARG_SOURCES})
+    target_link_libraries(${name} PRIVATE ${ARG_DEPS})
+    target_compile_options(${name} PRIVATE ${SMAP_WARNINGS})
+endfunction()
