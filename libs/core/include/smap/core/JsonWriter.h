@@ -1,0 +1,60 @@
+// A small JSON document builder for reports (metrics, summaries): ordered keys, numbers written
+// with round-trip precision, NaN/Inf written as null.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace smap::core
+{
+class JsonValue
+{
+public:
+    static JsonValue object();
+    static JsonValue array();
+    static JsonValue number(double v);
+    static JsonValue integer(int64_t v);
+    static JsonValue string(const std::string& v);
+    static JsonValue boolean(bool v);
+
+    /// Object members keep insertion order; returns *this for chaining.
+    JsonValue& set(const std::string& key, JsonValue v);
+    JsonValue& set(const std::string& key, double v) { return set(key, number(v)); }
+    JsonValue& set(const std::string& key, int v) { return set(key, integer(v)); }
+    JsonValue& set(const std::string& key, int64_t v) { return set(key, integer(v)); }
+    JsonValue& set(const std::string& key, uint64_t v)
+    {
+        return set(key, integer(static_cast<int64_t>(v)));
+    }
+    JsonValue& set(const std::string& key, const std::string& v) { return set(key, string(v)); }
+    JsonValue& set(const std::string& key, const char* v) { return set(key, string(v)); }
+    JsonValue& set(const std::string& key, bool v) { return set(key, boolean(v)); }
+    JsonValue& push(JsonValue v);
+
+    std::string dump(int indent = 2) const;
+
+private:
+    enum class Kind
+    {
+        Object,
+        Array,
+        Number,
+        Integer,
+        String,
+        Boolean
+    };
+    void dumpTo(std::string& out, int indent, int level) const;
+
+    Kind kind_ = Kind::Object;
+    double number_ = 0.0;
+    int64_t integer_ = 0;
+    bool boolean_ = false;
+    std::string string_;
+    std::vector<std::pair<std::string, JsonValue>> members_;
+    std::vector<JsonValue> items_;
+};
+
+std::string jsonEscape(const std::string& s);
+}  // namespace smap::core

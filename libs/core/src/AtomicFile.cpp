@@ -1,0 +1,68 @@
+#include "smap/core/AtomicFile.h"
+
+#include <mrpt/core/format.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <stdexcept>
+
+namespace fs = std::filesystem;
+
+namespace smap::core
+{
+std::string temporarySiblingPath(const std::string& path)
+{
+    const fs::path p(path);
+    const std::string name =
+        "." + p.stem().string() + ".tmp-" + std::to_string(::getpid()) + p.extension().string();
+    return (p.parent_path() / name).string();
+}
+
+void writeFileAtomically(const std::string& path,
+                         const std::function<void(const std::string&)>& writer)
+{
+    const std::string tmp = temporarySiblingPath(path);
+    try
+    {
+        writer(tmp);
+        if (!fs::exists(tmp))
+            throw std::runtime_error(mrpt::format("writing '%s' produced no file", path.c_str()));
+        fs::rename(tmp, path);
+    }
+    catch (...)
+    {
+        std::error_code ec;
+        fs::remove(tmp, ec);
+        throw;
+    }
+}
+
+AtomicTextFile::AtomicTextFile(std::string path)
+    : path_(std::move(path)), tmpPath_(temporarySiblingPath(path_))
+{
+    out_.open(tmpPath_, std::ios::out | std::ios::trunc);
+    if (!out_)
+        throw std::runtime_error(mrpt::format("cannot create output file '%s'", path_.c_str()));
+}
+
+AtomicTextFile::~AtomicTextFile()
+{
+    if (!committed_)
+    {
+        out_.close();
+        std::error_code ec;
+        fs::remove(tmpPath_, ec);
+    }
+}
+
+void AtomicTextFile::commit()
+{
+    out_.flush();
+    const bool ok = static_cast<bool>(out_);
+    out_.close();
+    if (!ok || out_.fail())
+        throw std::runtime_error(mrpt::format("error while writing '%s'", path_.c_str()));
+    fs::rename(tmpPath_, path_);
+    committed_ = true;
+}
+}  // namespace smap::core
