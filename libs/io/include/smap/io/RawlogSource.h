@@ -1,0 +1,39 @@
+// Frames from an MRPT rawlog, streamed entry by entry (never the whole file in memory).
+//
+// Handles both rawlog layouts (CSensoryFrame + CActionCollection pairs, and bare observations),
+// plain or gzip files, images stored inside the rawlog or externally in "<name>_Images/" next
+// to it (as RawLogViewer resolves them), range images in any rangeUnits, range_is_depth ==
+// false, and depth cameras that do not coincide with the colour camera (the depth is
+// registered onto the colour image).
+#pragma once
+
+#include <map>
+#include <memory>
+
+#include "smap/io/FrameSource.h"
+
+namespace smap::io
+{
+class RawlogSource : public FrameSource
+{
+public:
+    /// Opens the file; throws core::InputError when it cannot be opened.
+    RawlogSource(const std::string& path, const FrameSourceParameters& params);
+    ~RawlogSource() override;
+
+    /// Throws core::InputError when the rawlog is corrupt, or ends without having held any
+    /// usable RGB-D observation (the message lists the classes it did contain).
+    std::optional<core::RgbdFrame> next() override;
+    std::string description() const override;
+    std::string groundTruthPath() const override;
+
+    /// "<dir>/<stem>_Images": base of relative external image paths.
+    const std::string& imagesDirectory() const;
+    /// Entries read so far, by MRPT class name (observations inside sensory frames included).
+    const std::map<std::string, size_t>& classCounts() const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+}  // namespace smap::io

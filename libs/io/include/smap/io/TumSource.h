@@ -1,0 +1,43 @@
+// Frames from a TUM RGB-D folder: rgb.txt + depth.txt associated as TUM's associate.py does
+// (or associations.txt when present and enabled), images decoded on demand.
+#pragma once
+
+#include <vector>
+
+#include "smap/io/FrameSource.h"
+#include "smap/io/TumTextFormats.h"
+
+namespace smap::io
+{
+class TumSource : public FrameSource
+{
+public:
+    /// Reads the lists (not the images); throws core::InputError on missing or malformed lists.
+    TumSource(const std::string& folder, const FrameSourceParameters& params);
+
+    std::optional<core::RgbdFrame> next() override;
+    std::string description() const override;
+    std::optional<size_t> sizeHint() const override { return entries_.size(); }
+    std::string groundTruthPath() const override;
+
+    /// The associated (rgb, depth) pairs, in order.
+    const std::vector<TumAssociationEntry>& entries() const { return entries_; }
+    const core::PinholeCamera& camera() const { return camera_; }
+    const std::string& folder() const { return folder_; }
+
+    /// Raw 16-bit depth of entry `i` exactly as stored in its PNG (for converters).
+    cv::Mat readRawDepth(size_t i) const;
+    std::string absolutePath(const std::string& relative) const;
+
+private:
+    std::string folder_;
+    FrameSourceParameters params_;
+    core::PinholeCamera camera_;
+    std::vector<TumAssociationEntry> entries_;
+    size_t cursor_ = 0;
+};
+
+/// Depth in metres from raw units: raw * float(1 / depthFactor). The same float product is used
+/// for rawlogs (raw * rangeUnits), so a TUM folder and its tum2rawlog conversion agree bit for bit.
+void rawDepthToMetres(const cv::Mat& raw16, float unitsPerRaw, cv::Mat& depthMetres);
+}  // namespace smap::io

@@ -1,0 +1,40 @@
+// TUM RGB-D folder -> MRPT rawlog of CObservation3DRangeScan (what tum2rawlog does).
+//
+// The rawlog holds one bare observation per associated (rgb, depth) pair, with images stored
+// externally in "<name>_Images/" (colour files copied byte for byte; depth as MRPT .bin range
+// images in the source's own units, rangeUnits = 1 / depth_factor), so it stays small and opens
+// in RawLogViewer. Depth and colour cameras coincide (relativePoseIntensityWRTDepth is the
+// optical-to-sensor rotation). groundtruth.txt, when present, is written as
+// "<name>_groundtruth.txt" beside the rawlog.
+#pragma once
+
+#include <mrpt/system/COutputLogger.h>
+
+#include <string>
+
+#include "smap/io/TumSource.h"
+
+namespace smap::io
+{
+class TumToRawlogConverter : public mrpt::system::COutputLogger
+{
+public:
+    struct Result
+    {
+        size_t frames = 0;
+        std::string rawlogPath;
+        std::string imagesDirectory;
+        std::string groundTruthPath;  ///< empty when the folder had no ground truth
+    };
+
+    explicit TumToRawlogConverter(std::string sensorLabel = "RGBD");
+
+    /// Writes atomically: the rawlog and its images folder appear only when complete; an
+    /// existing output of the same name is replaced. `maxFrames` = 0 converts all.
+    Result convert(TumSource& source, double depthFactor, const std::string& outRawlog,
+                   size_t maxFrames = 0);
+
+private:
+    std::string sensorLabel_;
+};
+}  // namespace smap::io

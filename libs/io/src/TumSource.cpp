@@ -1,0 +1,157 @@
+#include "smap/io/TumSource.h"
+
+#include <mrpt/core/format.h>
+
+#include <filesystem>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "smap/core/InputError.h"
+#include "smap/core/TimestampAssociation.h"
+
+namespace fs = std::filesystem;
+
+namespace smap::io
+{
+void rawDepthToMetres(const cv::Mat& raw16, float unitsPerRaw, cv::Mat& depthMetres)
+{
+    depthMetres.create(raw16.size(), CV_32FC1);
+    for (int r = 0; r < raw16.rows; r++)
+    {
+        const auto* src = raw16.ptr<uint16_t>(r);
+        auto* dst = depthMetres.ptr<float>(r);
+        for (int c = 0; c < raw16.cols; c++)
+            dst[c] = static_cast<float>(src[c]) * unitsPerRaw;
+    }
+}
+
+TumSource::TumSource(const std::string& folder, const FrameSourceParameters& params)
+    : FrameSource("TumSource"), folder_(folder), params_(params)
+{
+    const fs::path dir(folder);
+    const fs::path assocPath = dir / "associations.txt";
+    if (params.tum_use_associations && fs::exists(assocPath))
+    {
+        entries_ = readTumAssociations(assocPath.string());
+        for (const auto& e : entries_)
+        {
+            if (std::abs(e.rgbTimestamp - e.depthTimestamp) >= params.tum_max_dt)
+            {
+                MRPT_LOG_WARN_FMT(
+                    "%s:%zu: rgb and depth timestamps differ by %.4f s (> max_dt %.4f)",
+                    assocPath.c_str(), e.line, std::abs(e.rgbTimestamp - e.depthTimestamp),
+                    params.tum_max_dt);
+            }
+        }
+    }
+    else
+    {
+        const fs::path rgbPath = dir / "rgb.txt";
+        const fs::path depthPath = dir / "depth.txt";
+        if (!fs::exists(rgbPath) || !fs::exists(depthPath))
+        {
+            throw core::InputError(
+                mrpt::format("'%s' is not a TUM RGB-D folder: it needs rgb.txt and depth.txt (or "
+                             "associations.txt)",
+                             folder.c_str()));
+        }
+        const auto rgb = readTumList(rgbPath.string());
+        const auto depth = readTumList(depthPath.string());
+        std::vector<double> tr, td;
+        for (const auto& e : rgb)
+            tr.push_back(e.timestamp);
+        for (const auto& e : depth)
+            td.push_back(e.timestamp);
+        for (const auto& m : core::associateTimestamps(tr, td, params.tum_max_dt))
+        {
+            const auto& a = rgb[m.first];
+            const auto& b = depth[m.second];
+            entries_.push_back({a.timestamp, a.file, b.timestamp, b.file, a.line});
+        }
+    }
+    if (entries_.empty())
+    {
+        throw core::InputError(mrpt::format(
+            "TUM folder '%s': no rgb/depth pairs (empty lists, or no timestamps within max_dt = "
+            "%g s)",
+            folder.c_str(), params.tum_max_dt));
+    }
+    if (params.camera)
+    {
+        camera_ = *params.camera;
+    }
+    else
+    {
+        camera_ = defaultKinectCamera();
+        MRPT_LOG_WARN_STREAM(
+            "No [camera] configured for TUM folder '"
+            << folder << "': using the default Kinect intrinsics " << camera_.toString()
+            << ". Pass a preset (config/tum_fr1.ini, tum_fr2.ini, tum_fr3.ini, 7scenes.ini).");
+    }
+}
+
+std::string TumSource::absolutePath(const std::string& relative) const
+{
+    const fs::path p(relative);
+    return p.is_absolute() ? relative : (fs::path(folder_) / p).string();
+}
+
+std::string TumSource::description() const
+{
+    return mrpt::format("TUM folder '%s' (%zu frames)", folder_.c_str(), entries_.size());
+}
+
+std::string TumSource::groundTruthPath() const
+{
+    const fs::path gt = fs::path(folder_) / "groundtruth.txt";
+    return fs::exists(gt) ? gt.string() : std::string();
+}
+
+cv::Mat TumSource::readRawDepth(size_t i) const
+{
+    const std::string path = absolutePath(entries_.at(i).depthFile);
+    cv::Mat raw = cv::imread(path, cv::IMREAD_UNCHANGED);
+    if (raw.empty())
+        throw core::InputError(mrpt::format("cannot read depth image '%s'", path.c_str()));
+    if (raw.type() != CV_16UC1)
+    {
+        throw core::InputError(
+            mrpt::format("depth image '%s' is not a 16-bit single-channel PNG (OpenCV type %d)",
+                         path.c_str(), raw.type()));
+    }
+    return raw;
+}
+
+std::optional<core::RgbdFrame> TumSource::next()
+{
+    if (cursor_ >= entries_.size())
+        return std::nullopt;
+    const size_t i = cursor_++;
+    const auto& e = entries_[i];
+
+    core::RgbdFrame f;
+    const std::string rgbPath = absolutePath(e.rgbFile);
+    f.colour = cv::imread(rgbPath, cv::IMREAD_COLOR);
+    if (f.colour.empty())
+        throw core::InputError(mrpt::format("cannot read colour image '%s'", rgbPath.c_str()));
+    const cv::Mat raw = readRawDepth(i);
+    if (raw.size() != f.colour.size())
+    {
+        throw core::InputError(mrpt::format("depth image '%s' is %dx%d but colour '%s' is %dx%d",
+                                            absolutePath(e.depthFile).c_str(), raw.cols, raw.rows,
+                                            rgbPath.c_str(), f.colour.cols, f.colour.rows));
+    }
+    if (f.colour.cols != camera_.width || f.colour.rows != camera_.height)
+    {
+        throw core::InputError(mrpt::format("colour image '%s' is %dx%d but [camera] says %dx%d",
+                                            rgbPath.c_str(), f.colour.cols, f.colour.rows,
+                                            camera_.width, camera_.height));
+    }
+    rawDepthToMetres(raw, static_cast<float>(1.0 / params_.tum_depth_factor), f.depth);
+    f.camera = camera_;
+    f.timestamp = e.rgbTimestamp;
+    f.index = i;
+    f.name = fs::path(e.rgbFile).stem().string();
+    return f;
+}
+}  // namespace smap::io

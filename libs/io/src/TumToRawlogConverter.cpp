@@ -1,0 +1,133 @@
+#include "smap/io/TumToRawlogConverter.h"
+
+#include <mrpt/core/Clock.h>
+#include <mrpt/core/format.h>
+#include <mrpt/io/CFileGZOutputStream.h>
+#include <mrpt/obs/CObservation3DRangeScan.h>
+#include <mrpt/serialization/CArchive.h>
+#include <mrpt/system/CTicTac.h>
+#include <unistd.h>
+
+#include <filesystem>
+
+#include "smap/core/AtomicFile.h"
+#include "smap/core/InputError.h"
+#include "smap/io/TumTextFormats.h"
+
+namespace fs = std::filesystem;
+
+namespace smap::io
+{
+TumToRawlogConverter::TumToRawlogConverter(std::string sensorLabel)
+    : COutputLogger("TumToRawlogConverter"), sensorLabel_(std::move(sensorLabel))
+{
+}
+
+TumToRawlogConverter::Result TumToRawlogConverter::convert(TumSource& source, double depthFactor,
+                                                           const std::string& outRawlog,
+                                                           size_t maxFrames)
+{
+    const fs::path out(outRawlog);
+    const fs::path parent = out.parent_path().empty() ? fs::path(".") : out.parent_path();
+    if (!fs::is_directory(parent))
+        throw core::InputError(mrpt::format("output folder '%s' does not exist", parent.c_str()));
+    const fs::path imagesDir = parent / (out.stem().string() + "_Images");
+    const fs::path tmpImagesDir =
+        parent / ("." + out.stem().string() + "_Images.tmp-" + std::to_string(::getpid()));
+    fs::remove_all(tmpImagesDir);
+    fs::create_directories(tmpImagesDir);
+
+    const auto& entries = source.entries();
+    const size_t n = maxFrames == 0 ? entries.size() : std::min(maxFrames, entries.size());
+    const auto rangeUnits = static_cast<float>(1.0 / depthFactor);
+    const core::PinholeCamera& cam = source.camera();
+    mrpt::system::CTicTac timer;
+    double lastReport = 0.0;
+
+    Result result;
+    try
+    {
+        core::writeFileAtomically(
+            outRawlog,
+            [&](const std::string& tmpRawlog)
+            {
+                mrpt::io::CFileGZOutputStream fo;
+                // Compression level 0: a plain rawlog, fastest to write and read.
+                if (!fo.open(tmpRawlog, 0))
+                    throw std::runtime_error(mrpt::format("cannot create '%s'", tmpRawlog.c_str()));
+                auto arch = mrpt::serialization::archiveFrom(fo);
+                for (size_t i = 0; i < n; i++)
+                {
+                    const auto& e = entries[i];
+                    const fs::path rgbRel = fs::path(e.rgbFile).lexically_normal();
+                    const fs::path rgbSrc = source.absolutePath(e.rgbFile);
+                    if (!fs::exists(rgbSrc))
+                        throw core::InputError(
+                            mrpt::format("colour image '%s' does not exist", rgbSrc.c_str()));
+                    fs::create_directories((tmpImagesDir / rgbRel).parent_path());
+                    fs::copy_file(rgbSrc, tmpImagesDir / rgbRel,
+                                  fs::copy_options::overwrite_existing);
+
+                    const cv::Mat raw = source.readRawDepth(i);
+                    auto obs = mrpt::obs::CObservation3DRangeScan::Create();
+                    obs->sensorLabel = sensorLabel_;
+                    obs->timestamp = mrpt::Clock::fromDouble(e.rgbTimestamp);
+                    obs->hasRangeImage = true;
+                    obs->range_is_depth = true;
+                    obs->rangeUnits = rangeUnits;
+                    obs->maxRange = 65535.0f * rangeUnits;
+                    obs->rangeImage_setSize(raw.rows, raw.cols);
+                    for (int r = 0; r < raw.rows; r++)
+                    {
+                        const auto* src = raw.ptr<uint16_t>(r);
+                        for (int c = 0; c < raw.cols; c++)
+                            obs->rangeImage(r, c) = src[c];
+                    }
+                    const fs::path depthRel =
+                        fs::path(e.depthFile).lexically_normal().replace_extension(".bin");
+                    fs::create_directories((tmpImagesDir / depthRel).parent_path());
+                    obs->rangeImage_convertToExternalStorage(depthRel.string(),
+                                                             tmpImagesDir.string() + "/");
+
+                    obs->hasIntensityImage = true;
+                    obs->intensityImageChannel = mrpt::obs::CObservation3DRangeScan::CH_VISIBLE;
+                    obs->intensityImage.setExternalStorage(rgbRel.string());
+                    obs->cameraParams = cam.toMrpt();
+                    obs->cameraParamsIntensity = cam.toMrpt();
+                    obs->relativePoseIntensityWRTDepth = mrpt::poses::CPose3D(
+                        0, 0, 0, mrpt::DEG2RAD(-90.0), 0, mrpt::DEG2RAD(-90.0));
+                    arch << *obs;
+                    result.frames++;
+
+                    if (timer.Tac() - lastReport > 2.0)
+                    {
+                        lastReport = timer.Tac();
+                        MRPT_LOG_INFO_FMT("converted %zu / %zu frames (%.1f frames/s)", i + 1, n,
+                                          (i + 1) / lastReport);
+                    }
+                }
+                fo.close();
+                // Images first: when the rawlog appears, everything it references exists.
+                fs::remove_all(imagesDir);
+                fs::rename(tmpImagesDir, imagesDir);
+            });
+    }
+    catch (...)
+    {
+        std::error_code ec;
+        fs::remove_all(tmpImagesDir, ec);
+        throw;
+    }
+    result.rawlogPath = outRawlog;
+    result.imagesDirectory = imagesDir.string();
+    if (const std::string gt = source.groundTruthPath(); !gt.empty())
+    {
+        result.groundTruthPath = (parent / (out.stem().string() + "_groundtruth.txt")).string();
+        writeTumTrajectory(result.groundTruthPath, readTumTrajectory(gt),
+                           "ground truth from " + gt);
+    }
+    MRPT_LOG_INFO_FMT("wrote %zu frames to '%s' (images in '%s')", result.frames, outRawlog.c_str(),
+                      result.imagesDirectory.c_str());
+    return result;
+}
+}  // namespace smap::io
