@@ -1,0 +1,66 @@
+#include "smap/eval/EvalReport.h"
+
+#include <mrpt/core/format.h>
+
+namespace smap::eval
+{
+namespace
+{
+void addStats(core::JsonValue& j, const ErrorStatistics& s)
+{
+    j.set("rmse", s.rmse).set("mean", s.mean).set("median", s.median).set("std", s.std);
+    j.set("min", s.min).set("max", s.max);
+}
+}  // namespace
+
+core::JsonValue ateToJson(const AteResult& r, const AteOptions& o)
+{
+    auto j = core::JsonValue::object();
+    addStats(j, r.translation);
+    j.set("pairs", static_cast<uint64_t>(r.pairs)).set("coverage", r.coverage);
+    j.set("ground_truth_poses", static_cast<uint64_t>(r.groundTruthPoses));
+    j.set("estimated_poses", static_cast<uint64_t>(r.estimatedPoses));
+    j.set("max_difference", o.maxDifference).set("offset", o.offset);
+    j.set("alignment", o.withScale ? "Sim3" : "SE3").set("scale", r.alignment.scale);
+    j.set("units", "m");
+    return j;
+}
+
+core::JsonValue rpeToJson(const RpeResult& r, const RpeOptions& o)
+{
+    auto t = core::JsonValue::object();
+    addStats(t, r.translation);
+    auto rot = core::JsonValue::object();
+    addStats(rot, r.rotation);
+    auto j = core::JsonValue::object();
+    j.set("translation", t).set("rotation", rot);
+    j.set("translation_units", "m").set("rotation_units", "deg");
+    j.set("pairs", static_cast<uint64_t>(r.pairs))
+        .set("associated", static_cast<uint64_t>(r.associated));
+    j.set("delta", o.delta).set("delta_unit", toString(o.unit));
+    return j;
+}
+
+std::string ateToText(const AteResult& r)
+{
+    const auto& s = r.translation;
+    return mrpt::format(
+        "ATE (translation, m)\n  rmse    %.6f\n  mean    %.6f\n  median  %.6f\n  std     %.6f\n"
+        "  min     %.6f\n  max     %.6f\n  pairs   %zu of %zu ground-truth poses (coverage "
+        "%.1f%%)\n"
+        "  scale   %.6f\n",
+        s.rmse, s.mean, s.median, s.std, s.min, s.max, r.pairs, r.groundTruthPoses,
+        100.0 * r.coverage, r.alignment.scale);
+}
+
+std::string rpeToText(const RpeResult& r, const RpeOptions& o)
+{
+    return mrpt::format(
+        "RPE over %g %s (%zu intervals)\n  translation rmse %.6f m, mean %.6f, median %.6f, max "
+        "%.6f\n"
+        "  rotation    rmse %.6f deg, mean %.6f, median %.6f, max %.6f\n",
+        o.delta, toString(o.unit).c_str(), r.pairs, r.translation.rmse, r.translation.mean,
+        r.translation.median, r.translation.max, r.rotation.rmse, r.rotation.mean,
+        r.rotation.median, r.rotation.max);
+}
+}  // namespace smap::eval
