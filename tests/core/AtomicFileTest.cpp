@@ -1,0 +1,69 @@
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "TestData.h"
+#include "smap/core/AtomicFile.h"
+
+namespace fs = std::filesystem;
+
+namespace
+{
+std::string readAll(const std::string& p)
+{
+    std::ifstream f(p);
+    return {std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
+}
+size_t countFiles(const std::string& dir)
+{
+    return static_cast<size_t>(
+        std::distance(fs::directory_iterator(dir), fs::directory_iterator()));
+}
+}  // namespace
+
+TEST(AtomicFile, CommitReplacesTarget)
+{
+    smap::test::TempDir dir;
+    const std::string p = dir / "out.txt";
+    {
+        std::ofstream(p) << "old";
+    }
+    smap::core::AtomicTextFile f(p);
+    f.stream() << "new";
+    EXPECT_EQ(readAll(p), "old");  // untouched until commit
+    f.commit();
+    EXPECT_EQ(readAll(p), "new");
+    EXPECT_EQ(countFiles(dir.str()), 1u);
+}
+
+TEST(AtomicFile, NoCommitLeavesNothing)
+{
+    smap::test::TempDir dir;
+    {
+        smap::core::AtomicTextFile f(dir / "out.txt");
+        f.stream() << "partial";
+    }
+    EXPECT_EQ(countFiles(dir.str()), 0u);
+}
+
+TEST(AtomicFile, ThrowingWriterKeepsOldFile)
+{
+    smap::test::TempDir dir;
+    const std::string p = dir / "plot.png";
+    {
+        std::ofstream(p) << "old";
+    }
+    EXPECT_THROW(smap::core::writeFileAtomically(p,
+                                                 [](const std::string& tmp)
+                                                 {
+                                                     EXPECT_EQ(fs::path(tmp).extension(), ".png");
+                                                     std::ofstream(tmp) << "half";
+                                                     throw std::runtime_error("disk full");
+                                                 }),
+                 std::runtime_error);
+    EXPECT_EQ(readAll(p), "old");
+    EXPECT_EQ(countFiles(dir.str()), 1u);
+    EXPECT_THROW(smap::core::writeFileAtomically(dir / "none.txt", [](const std::string&) {}),
+                 std::runtime_error);
+}

@@ -1,0 +1,261 @@
+#include <gtest/gtest.h>
+#include <mrpt/io/CFileGZInputStream.h>
+#include <mrpt/maps/CSimplePointsMap.h>
+#include <mrpt/obs/CActionCollection.h>
+#include <mrpt/obs/CObservation2DRangeScan.h>
+#include <mrpt/obs/CObservationOdometry.h>
+#include <mrpt/obs/CSensoryFrame.h>
+
+#include <filesystem>
+#include <opencv2/calib3d.hpp>
+
+#include "SyntheticRgbd.h"
+#include "TestData.h"
+#include "smap/core/InputError.h"
+#include "smap/io/RawlogSource.h"
+
+using namespace smap;
+namespace fs = std::filesystem;
+
+namespace
+{
+std::string errorOf(const std::function<void()>& fn)
+{
+    try
+    {
+        fn();
+    }
+    catch (const core::InputError& e)
+    {
+        return e.what();
+    }
+    return "(no error)";
+}
+
+std::vector<core::RgbdFrame> readAll(const std::string& path,
+                                     const io::FrameSourceParameters& p = {})
+{
+    io::RawlogSource src(path, p);
+    std::vector<core::RgbdFrame> frames;
+    while (auto f = src.next())
+        frames.push_back(std::move(*f));
+    return frames;
+}
+
+mrpt::obs::CObservation3DRangeScan::Ptr sampleObservation(int seed,
+                                                          const std::string& label = "KINECT")
+{
+    auto o =
+        test::makeCoincidentObservation(test::smallCamera(), test::patternColour(64, 48, seed),
+                                        test::patternDepthRaw(64, 48, seed), 0.0002f, 50.0 + seed);
+    o->sensorLabel = label;
+    return o;
+}
+
+void expectSameFrame(const core::RgbdFrame& a, const core::RgbdFrame& b)
+{
+    EXPECT_EQ(cv::norm(a.colour, b.colour, cv::NORM_INF), 0.0);
+    EXPECT_EQ(cv::norm(a.depth, b.depth, cv::NORM_INF), 0.0);
+    EXPECT_EQ(a.camera, b.camera);
+    EXPECT_DOUBLE_EQ(a.timestamp, b.timestamp);
+}
+}  // namespace
+
+TEST(RawlogSource, ReadsMrptSampleWithColourIntrinsicsAndRegisteredDepth)
+{
+    SMAP_REQUIRE_DATA(test::mrptSampleRgbd());
+    const auto frames = readAll(test::mrptSampleRgbd());
+    ASSERT_EQ(frames.size(), 1u);
+    const auto& f = frames[0];
+    f.validate();
+    // tests_rgbd.rawlog stores depth and colour cameras separately: the frame is expressed in
+    // the colour (intensity) camera, whose calibration is fx 521.179, fy 493.033, c (322.516,
+    // 259.056).
+    EXPECT_EQ(f.camera.width, 640);
+    EXPECT_EQ(f.camera.height, 480);
+    EXPECT_NEAR(f.camera.fx, 521.17923, 1e-4);
+    EXPECT_NEAR(f.camera.fy, 493.03303, 1e-4);
+    EXPECT_NEAR(f.camera.cx, 322.51599, 1e-4);
+    EXPECT_NEAR(f.camera.cy, 259.05597, 1e-4);
+    EXPECT_NEAR(f.camera.distortion[0], 0.05858325, 1e-8);
+    EXPECT_GT(f.validDepthFraction(), 0.6);
+
+    // Independent check of the registration: MRPT's own unprojection of the range image (its
+    // undistortion LUT, sensor frame x forward), moved into the colour camera and projected with
+    // OpenCV, must agree with our depth at that pixel wherever that point is the visible one.
+    mrpt::io::CFileGZInputStream in(test::mrptSampleRgbd());
+    auto arch = mrpt::serialization::archiveFrom(in);
+    auto obs = std::dynamic_pointer_cast<mrpt::obs::CObservation3DRangeScan>(arch.ReadObject());
+    ASSERT_TRUE(obs);
+    mrpt::maps::CSimplePointsMap pts;
+    obs->unprojectInto(pts);
+    std::vector<cv::Point3d> inColour;
+    for (size_t i = 0; i < pts.size(); i++)
+    {
+        float x, y, z;
+        pts.getPoint(i, x, y, z);
+        double cx, cy, cz;
+        obs->relativePoseIntensityWRTDepth.inverseComposePoint(x, y, z, cx, cy, cz);
+        if (cz > 0)
+            inColour.emplace_back(cx, cy, cz);
+    }
+    ASSERT_GT(inColour.size(), 100000u);
+    std::vector<cv::Point2d> px;
+    cv::projectPoints(inColour, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0), f.camera.cameraMatrix(),
+                      f.camera.distCoeffs(), px);
+    size_t inside = 0, agree = 0;
+    for (size_t i = 0; i < px.size(); i++)
+    {
+        const long u = std::lround(px[i].x), v = std::lround(px[i].y);
+        if (u < 0 || v < 0 || u >= 640 || v >= 480)
+            continue;
+        inside++;
+        if (std::abs(f.depth.at<float>(static_cast<int>(v), static_cast<int>(u)) - inColour[i].z) <
+            0.005)
+            agree++;
+    }
+    EXPECT_GT(static_cast<double>(agree) / inside, 0.97) << agree << " of " << inside;
+}
+
+TEST(RawlogSource, BothLayoutsAndGzipGiveTheSameFrames)
+{
+    test::TempDir dir;
+    const auto o0 = sampleObservation(0), o1 = sampleObservation(1);
+    test::writeRawlog(dir / "obs.rawlog", {o0, o1});
+    auto sf0 = mrpt::obs::CSensoryFrame::Create();
+    sf0->insert(o0);
+    auto sf1 = mrpt::obs::CSensoryFrame::Create();
+    sf1->insert(std::make_shared<mrpt::obs::CObservationOdometry>());
+    sf1->insert(o1);
+    test::writeRawlog(
+        dir / "sf.rawlog",
+        {mrpt::obs::CActionCollection::Create(), sf0, mrpt::obs::CActionCollection::Create(), sf1},
+        true);
+
+    const auto a = readAll(dir / "obs.rawlog");
+    const auto b = readAll(dir / "sf.rawlog");
+    ASSERT_EQ(a.size(), 2u);
+    ASSERT_EQ(b.size(), 2u);
+    for (size_t i = 0; i < 2; i++)
+        expectSameFrame(a[i], b[i]);
+    // Known content: raw * rangeUnits (float product).
+    const cv::Mat raw = test::patternDepthRaw(64, 48, 1);
+    EXPECT_EQ(a[1].depth.at<float>(5, 7), static_cast<float>(raw.at<uint16_t>(5, 7)) * 0.0002f);
+    EXPECT_EQ(cv::norm(a[1].colour, test::patternColour(64, 48, 1), cv::NORM_INF), 0.0);
+    EXPECT_NEAR(a[1].timestamp, 51.0, 1e-6);
+    EXPECT_EQ(a[1].camera, test::smallCamera());
+}
+
+TEST(RawlogSource, FiltersBySensorLabel)
+{
+    test::TempDir dir;
+    test::writeRawlog(dir / "two.rawlog", {sampleObservation(0, "A"), sampleObservation(1, "B"),
+                                           sampleObservation(2, "A")});
+    io::FrameSourceParameters p;
+    p.rawlog_sensor_label = "B";
+    const auto frames = readAll(dir / "two.rawlog", p);
+    ASSERT_EQ(frames.size(), 1u);
+    EXPECT_NEAR(frames[0].timestamp, 51.0, 1e-6);
+    p.rawlog_sensor_label = "C";
+    const std::string e = errorOf([&] { readAll(dir / "two.rawlog", p); });
+    EXPECT_NE(e.find("other than 'C'"), std::string::npos) << e;
+}
+
+TEST(RawlogSource, RangeNotDepthIsConvertedAlongEachRay)
+{
+    // A plane at z = 1.5 m stored as Euclidean ranges (range_is_depth = false).
+    const auto cam = test::smallCamera();
+    cv::Mat raw(48, 64, CV_16UC1);
+    const float units = 0.0001f;
+    for (int v = 0; v < 48; v++)
+        for (int u = 0; u < 64; u++)
+        {
+            const double x = (u - cam.cx) / cam.fx, y = (v - cam.cy) / cam.fy;
+            raw.at<uint16_t>(v, u) =
+                static_cast<uint16_t>(std::lround(1.5 * std::sqrt(1 + x * x + y * y) / units));
+        }
+    auto o = test::makeCoincidentObservation(cam, test::patternColour(64, 48, 0), raw, units, 1.0);
+    o->range_is_depth = false;
+    test::TempDir dir;
+    test::writeRawlog(dir / "r.rawlog", {o});
+    const auto f = readAll(dir / "r.rawlog");
+    ASSERT_EQ(f.size(), 1u);
+    double maxErr = 0;
+    for (int v = 0; v < 48; v++)
+        for (int u = 0; u < 64; u++)
+            maxErr = std::max(maxErr, std::abs(f[0].depth.at<float>(v, u) - 1.5));
+    EXPECT_LT(maxErr, 1e-4);  // half a range unit
+    // Corner pixels differ most from their range: not converting would be off by ~2 cm there.
+    EXPECT_GT(raw.at<uint16_t>(0, 0) * units - 1.5, 0.01);
+}
+
+TEST(RawlogSource, ExternallyStoredImagesResolveNextToTheRawlog)
+{
+    test::TempDir dir;
+    const std::string imgDir = dir / "rec_Images";
+    fs::create_directories(imgDir + "/rgb");
+    fs::create_directories(imgDir + "/depth");
+    auto embedded = sampleObservation(3);
+    auto ext = sampleObservation(3);
+    cv::imwrite(imgDir + "/rgb/c3.png", test::patternColour(64, 48, 3));
+    ext->intensityImage.setExternalStorage("rgb/c3.png");
+    ext->rangeImage_convertToExternalStorage("depth/d3.bin", imgDir + "/");
+    test::writeRawlog(dir / "rec.rawlog", {ext});
+    test::writeRawlog(dir / "emb.rawlog", {embedded});
+    const auto a = readAll(dir / "rec.rawlog");
+    const auto b = readAll(dir / "emb.rawlog");
+    ASSERT_EQ(a.size(), 1u);
+    expectSameFrame(a[0], b[0]);
+    EXPECT_EQ(a[0].name, "c3");
+
+    fs::remove(imgDir + "/rgb/c3.png");
+    const std::string e = errorOf([&] { readAll(dir / "rec.rawlog"); });
+    EXPECT_NE(e.find("rec_Images/rgb/c3.png"), std::string::npos) << e;
+}
+
+TEST(RawlogSource, RawlogWithoutRgbdSaysWhatItContains)
+{
+    test::TempDir dir;
+    auto sf = mrpt::obs::CSensoryFrame::Create();
+    sf->insert(mrpt::obs::CObservation2DRangeScan::Create());
+    test::writeRawlog(dir / "laser.rawlog", {mrpt::obs::CActionCollection::Create(), sf});
+    const std::string e = errorOf([&] { readAll(dir / "laser.rawlog"); });
+    EXPECT_NE(e.find("no usable RGB-D observation"), std::string::npos) << e;
+    EXPECT_NE(e.find("mrpt::obs::CObservation2DRangeScan x1"), std::string::npos) << e;
+    EXPECT_NE(e.find("mrpt::obs::CActionCollection x1"), std::string::npos) << e;
+
+    std::ofstream(dir / "empty.rawlog").close();
+    EXPECT_NE(errorOf([&] { readAll(dir / "empty.rawlog"); }).find("contains: nothing"),
+              std::string::npos);
+    EXPECT_NE(errorOf([&] { readAll(dir / "missing.rawlog"); }).find("missing.rawlog"),
+              std::string::npos);
+}
+
+TEST(RawlogSource, TruncatedRawlogIsAnErrorAfterTheGoodEntries)
+{
+    test::TempDir dir;
+    test::writeRawlog(dir / "t.rawlog",
+                      {sampleObservation(0), sampleObservation(1), sampleObservation(2)});
+    const auto size = fs::file_size(dir / "t.rawlog");
+    fs::resize_file(dir / "t.rawlog", size * 5 / 6);
+    io::RawlogSource src(dir / "t.rawlog", {});
+    EXPECT_TRUE(src.next().has_value());
+    EXPECT_TRUE(src.next().has_value());
+    const std::string e = errorOf([&] { src.next(); });
+    EXPECT_NE(e.find("entry 3"), std::string::npos) << e;
+    EXPECT_NE(e.find("t.rawlog"), std::string::npos) << e;
+}
+
+TEST(RawlogSource, CameraOverrideReplacesObservationIntrinsics)
+{
+    test::TempDir dir;
+    test::writeRawlog(dir / "o.rawlog", {sampleObservation(0)});
+    io::FrameSourceParameters p;
+    p.camera = test::smallCamera(64, 48, 75.0);
+    const auto f = readAll(dir / "o.rawlog", p);
+    ASSERT_EQ(f.size(), 1u);
+    EXPECT_EQ(f[0].camera.fx, 75.0);
+    p.camera = test::smallCamera(640, 480);
+    EXPECT_NE(errorOf([&] { readAll(dir / "o.rawlog", p); }).find("[camera] says 640x480"),
+              std::string::npos);
+}

@@ -1,0 +1,110 @@
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "SyntheticRgbd.h"
+#include "TestData.h"
+#include "smap/core/InputError.h"
+#include "smap/io/FrameSource.h"
+#include "smap/io/TumSource.h"
+
+using namespace smap;
+
+namespace
+{
+io::FrameSourceParameters params(double factor = 5000.0)
+{
+    io::FrameSourceParameters p;
+    p.tum_depth_factor = factor;
+    p.camera = test::smallCamera();
+    return p;
+}
+}  // namespace
+
+TEST(TumSource, AssociatesListsAndConvertsDepth)
+{
+    test::TempDir dir;
+    test::writeTumFolder(dir.str(), 4, 0.01, false);
+    io::TumSource src(dir.str(), params(1000.0));
+    EXPECT_EQ(src.sizeHint().value(), 4u);
+    EXPECT_EQ(src.groundTruthPath(), dir / "groundtruth.txt");
+    for (int i = 0; i < 4; i++)
+    {
+        auto f = src.next();
+        ASSERT_TRUE(f.has_value());
+        f->validate();
+        EXPECT_EQ(f->index, static_cast<size_t>(i));
+        EXPECT_NEAR(f->timestamp, 100.0 + i / 30.0, 1e-6);
+        EXPECT_EQ(f->name, "f" + std::to_string(i));
+        EXPECT_EQ(cv::norm(f->colour, test::patternColour(64, 48, i), cv::NORM_INF), 0.0);
+        const cv::Mat raw = test::patternDepthRaw(64, 48, i);
+        EXPECT_EQ(f->depth.at<float>(10, 20),
+                  static_cast<float>(raw.at<uint16_t>(10, 20)) * static_cast<float>(1.0 / 1000.0));
+        EXPECT_NEAR(f->depth.at<float>(10, 20), raw.at<uint16_t>(10, 20) / 1000.0, 1e-6);
+        EXPECT_EQ(f->depth.at<float>(0, 17 - i), 0.0f);  // invalid raw 0 stays exactly 0
+    }
+    EXPECT_FALSE(src.next().has_value());
+}
+
+TEST(TumSource, UsesAssociationsFileAndSubsampling)
+{
+    test::TempDir dir;
+    test::writeTumFolder(dir.str(), 6, 0.005, true);
+    auto p = params();
+    p.stride = 2;
+    p.max_frames = 2;
+    auto src = io::openFrameSource(dir.str(), p);
+    EXPECT_EQ(src->sizeHint().value(), 2u);
+    auto a = src->next();
+    auto b = src->next();
+    ASSERT_TRUE(a && b);
+    EXPECT_EQ(a->index, 0u);
+    EXPECT_EQ(b->index, 2u);
+    EXPECT_FALSE(src->next().has_value());
+}
+
+TEST(TumSource, ReportsMissingImagesAndBadFolders)
+{
+    test::TempDir dir;
+    test::writeTumFolder(dir.str(), 2, 0.0, false);
+    std::filesystem::remove(dir / "rgb/f1.png");
+    io::TumSource src(dir.str(), params());
+    EXPECT_TRUE(src.next().has_value());
+    try
+    {
+        src.next();
+        FAIL();
+    }
+    catch (const core::InputError& e)
+    {
+        EXPECT_NE(std::string(e.what()).find("rgb/f1.png"), std::string::npos) << e.what();
+    }
+    test::TempDir empty;
+    EXPECT_THROW(io::TumSource(empty.str(), params()), core::InputError);
+    EXPECT_THROW(io::openFrameSource(empty / "missing", params()), core::InputError);
+}
+
+TEST(TumSource, CameraSizeMismatchIsAnError)
+{
+    test::TempDir dir;
+    test::writeTumFolder(dir.str(), 1, 0.0, false);
+    auto p = params();
+    p.camera = test::smallCamera(640, 480);
+    io::TumSource src(dir.str(), p);
+    EXPECT_THROW(src.next(), core::InputError);
+}
+
+TEST(TumSource, NoOverlappingTimestampsIsAnError)
+{
+    test::TempDir dir;
+    test::writeTumFolder(dir.str(), 3, 0.5, false);  // depth 0.5 s late: nothing within 0.02 s
+    try
+    {
+        io::TumSource src(dir.str(), params());
+        FAIL();
+    }
+    catch (const core::InputError& e)
+    {
+        EXPECT_NE(std::string(e.what()).find("no rgb/depth pairs"), std::string::npos);
+    }
+}

@@ -1,0 +1,68 @@
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "SyntheticRgbd.h"
+#include "TestData.h"
+#include "smap/io/RawlogSource.h"
+#include "smap/io/TumSource.h"
+#include "smap/io/TumTextFormats.h"
+#include "smap/io/TumToRawlogConverter.h"
+
+using namespace smap;
+namespace fs = std::filesystem;
+
+TEST(TumToRawlogConverter, RawlogReadsBackAsTheSameFrames)
+{
+    test::TempDir dir;
+    test::writeTumFolder(dir / "tum", 5, 0.004, false);
+    io::FrameSourceParameters p;
+    p.tum_depth_factor = 5000.0;
+    p.camera = test::smallCamera();
+    io::TumSource folder(dir / "tum", p);
+    io::TumToRawlogConverter conv;
+    const auto r = conv.convert(folder, p.tum_depth_factor, dir / "out.rawlog");
+    EXPECT_EQ(r.frames, 5u);
+    EXPECT_TRUE(fs::exists(dir / "out_Images/rgb/f0.png"));
+    EXPECT_TRUE(fs::exists(dir / "out_Images/depth/f4.bin"));
+    EXPECT_EQ(r.groundTruthPath, dir / "out_groundtruth.txt");
+    EXPECT_EQ(io::readTumTrajectory(r.groundTruthPath).size(), 5u);
+    // Only the finished outputs remain (no temporaries).
+    size_t entries = static_cast<size_t>(
+        std::distance(fs::directory_iterator(dir.str()), fs::directory_iterator()));
+    EXPECT_EQ(entries, 4u);  // tum/, out.rawlog, out_Images/, out_groundtruth.txt
+
+    io::TumSource again(dir / "tum", p);
+    io::RawlogSource rawlog(dir / "out.rawlog", {});
+    size_t n = 0;
+    while (auto a = again.next())
+    {
+        auto b = rawlog.next();
+        ASSERT_TRUE(b.has_value());
+        EXPECT_EQ(cv::norm(a->colour, b->colour, cv::NORM_INF), 0.0);
+        EXPECT_EQ(cv::norm(a->depth, b->depth, cv::NORM_INF), 0.0);  // bit-identical metres
+        EXPECT_EQ(a->camera, b->camera);
+        EXPECT_NEAR(a->timestamp, b->timestamp, 1e-6);  // MRPT stores 100 ns ticks
+        EXPECT_EQ(a->name, b->name);
+        n++;
+    }
+    EXPECT_EQ(n, 5u);
+    EXPECT_FALSE(rawlog.next().has_value());
+}
+
+TEST(TumToRawlogConverter, FailureLeavesNoPartialOutput)
+{
+    test::TempDir dir;
+    test::writeTumFolder(dir / "tum", 3, 0.0, false);
+    fs::remove(dir / "tum/depth/f2.png");
+    io::FrameSourceParameters p;
+    p.camera = test::smallCamera();
+    io::TumSource folder(dir / "tum", p);
+    io::TumToRawlogConverter conv;
+    EXPECT_THROW(conv.convert(folder, 5000.0, dir / "out.rawlog"), std::exception);
+    EXPECT_FALSE(fs::exists(dir / "out.rawlog"));
+    EXPECT_FALSE(fs::exists(dir / "out_Images"));
+    size_t entries = static_cast<size_t>(
+        std::distance(fs::directory_iterator(dir.str()), fs::directory_iterator()));
+    EXPECT_EQ(entries, 1u);
+}

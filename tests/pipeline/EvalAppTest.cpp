@@ -1,0 +1,82 @@
+#include <gtest/gtest.h>
+#include <mrpt/core/format.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "TestData.h"
+#include "smap/core/InputError.h"
+#include "smap/pipeline/EvalApp.h"
+
+using namespace smap;
+
+namespace
+{
+void writeFile(const std::string& path, const std::string& text)
+{
+    std::ofstream(path) << text;
+}
+std::string readFile(const std::string& path)
+{
+    std::ifstream f(path);
+    return {std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
+}
+}  // namespace
+
+TEST(EvalApp, AteWritesJsonAndPlot)
+{
+    test::TempDir dir;
+    // Ground truth on a square; the estimate is the same square shifted by 1 m in x with one
+    // pose 0.3 m off: after alignment the errors are known in closed form only roughly, but
+    // the maximum must sit on that pose and the RMSE must be non-zero.
+    std::string gt, est;
+    const double xy[5][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}, {0.5, 0.5}};
+    for (int i = 0; i < 5; i++)
+    {
+        gt += std::to_string(i) + " " + std::to_string(xy[i][0]) + " " + std::to_string(xy[i][1]) +
+              " 0 0 0 0 1\n";
+        est += std::to_string(i + 0.01) + " " +
+               std::to_string(xy[i][0] + 1 + (i == 4 ? 0.3 : 0.0)) + " " +
+               std::to_string(xy[i][1]) + " 0 0 0 0 1\n";
+    }
+    writeFile(dir / "gt.txt", gt);
+    writeFile(dir / "est.txt", est);
+    std::ostringstream out;
+    pipeline::EvalApp app;
+    EXPECT_EQ(app.run({"ate", dir / "gt.txt", dir / "est.txt", "--json", dir / "ate.json", "--plot",
+                       dir / "ate.png"},
+                      out),
+              0);
+    const std::string j = readFile(dir / "ate.json");
+    for (const char* k : {"\"rmse\"", "\"mean\"", "\"median\"", "\"std\"", "\"min\"", "\"max\"",
+                          "\"pairs\": 5", "\"coverage\": 1"})
+        EXPECT_NE(j.find(k), std::string::npos) << k;
+    EXPECT_TRUE(std::filesystem::exists(dir / "ate.png"));
+    EXPECT_NE(out.str().find("rmse"), std::string::npos);
+    // Translating the outlier by 0.3 along x: the aligned errors are 0.3 * (4/5) on it and 0.3/5 on
+    // the others.
+    EXPECT_NE(out.str().find(mrpt::format("max     %.6f", 0.24)), std::string::npos) << out.str();
+}
+
+TEST(EvalApp, RpeAndArgumentErrors)
+{
+    test::TempDir dir;
+    std::string gt;
+    for (int i = 0; i < 40; i++)
+        gt += std::to_string(i * 0.1) + " " + std::to_string(i * 0.01) + " 0 0 0 0 0 1\n";
+    writeFile(dir / "gt.txt", gt);
+    std::ostringstream out;
+    pipeline::EvalApp app;
+    EXPECT_EQ(app.run({"rpe", dir / "gt.txt", dir / "gt.txt", "--delta", "5", "--delta-unit",
+                       "frames", "--json", dir / "rpe.json"},
+                      out),
+              0);
+    EXPECT_NE(readFile(dir / "rpe.json").find("\"delta_unit\": \"frames\""), std::string::npos);
+    EXPECT_THROW(app.run({"ate", dir / "gt.txt"}, out), core::InputError);
+    EXPECT_THROW(app.run({"rpe", dir / "gt.txt", dir / "gt.txt", "--plot", "x.png"}, out),
+                 core::InputError);
+    EXPECT_THROW(app.run({"ate", dir / "gt.txt", dir / "missing.txt"}, out), core::InputError);
+    EXPECT_THROW(app.run({"ate", dir / "gt.txt", dir / "gt.txt", "--max-dt", "abc"}, out),
+                 core::InputError);
+}

@@ -1,0 +1,93 @@
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "SyntheticRgbd.h"
+#include "TestData.h"
+#include "smap/core/InputError.h"
+#include "smap/pipeline/SemanticMapperApp.h"
+
+using namespace smap;
+namespace fs = std::filesystem;
+
+namespace
+{
+std::string readFile(const std::string& path)
+{
+    std::ifstream f(path);
+    return {std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
+}
+size_t countLines(const std::string& path)
+{
+    const std::string s = readFile(path);
+    return static_cast<size_t>(std::count(s.begin(), s.end(), '\n'));
+}
+std::string smallCameraIni()
+{
+    return "[camera]\nwidth = 64\nheight = 48\nfx = 60\nfy = 60\ncx = 31.5\ncy = 23.5\n";
+}
+}  // namespace
+
+TEST(SemanticMapperApp, RunsOnTheEmbeddedDefaultRecording)
+{
+    SMAP_REQUIRE_DATA(pipeline::SemanticMapperApp::defaultInput());
+    test::TempDir dir;
+    std::ostringstream out;
+    pipeline::SemanticMapperApp app;
+    app.setMinLoggingLevel(mrpt::system::LVL_WARN);
+    EXPECT_EQ(app.run({"--out", dir / "o"}, out), 0);
+    EXPECT_EQ(app.result().frames, 1u);
+    const std::string summary = readFile(dir / "o/summary.json");
+    EXPECT_NE(summary.find("\"frames\": 1"), std::string::npos) << summary;
+    EXPECT_NE(summary.find("\"fx\": 521.179"), std::string::npos) << summary;
+    EXPECT_EQ(countLines(dir / "o/frames.csv"), 2u);
+    EXPECT_TRUE(fs::exists(dir / "o/config-effective.ini"));
+    EXPECT_NE(out.str().find("outputs in"), std::string::npos);
+}
+
+TEST(SemanticMapperApp, ConfigAndOverridesReachTheSource)
+{
+    test::TempDir dir;
+    test::writeTumFolder(dir / "tum", 6, 0.0, false);
+    std::ofstream(dir / "cam.ini") << smallCameraIni() << "[tum]\ndepth_factor = 1000\n";
+    std::ostringstream out;
+    pipeline::SemanticMapperApp app;
+    app.setMinLoggingLevel(mrpt::system::LVL_WARN);
+    EXPECT_EQ(app.run({dir / "tum", "--config", dir / "cam.ini", "--out", dir / "o", "--set",
+                       "input.stride=2"},
+                      out),
+              0);
+    EXPECT_EQ(app.result().frames, 3u);
+    const std::string eff = readFile(dir / "o/config-effective.ini");
+    EXPECT_NE(eff.find("stride = 2"), std::string::npos) << eff;
+    EXPECT_NE(eff.find("depth_factor = 1000"), std::string::npos) << eff;
+    // Depth factor 1000: the first frame's minimum depth is its smallest raw value / 1000.
+    const std::string csv = readFile(dir / "o/frames.csv");
+    EXPECT_NE(csv.find("0,100.000000,f0,"), std::string::npos) << csv;
+}
+
+TEST(SemanticMapperApp, UnknownConfigKeyAndBadInputAreInputErrors)
+{
+    test::TempDir dir;
+    test::writeTumFolder(dir / "tum", 2, 0.0, false);
+    std::ofstream(dir / "bad.ini") << smallCameraIni() << "[tum]\ndepth_facter = 1000\n";
+    std::ostringstream out;
+    pipeline::SemanticMapperApp app;
+    try
+    {
+        app.run({dir / "tum", "--config", dir / "bad.ini", "--out", dir / "o"}, out);
+        FAIL();
+    }
+    catch (const core::InputError& e)
+    {
+        EXPECT_NE(std::string(e.what()).find("depth_facter"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("bad.ini"), std::string::npos) << e.what();
+    }
+    EXPECT_FALSE(fs::exists(dir / "o"));  // nothing written for a rejected configuration
+    EXPECT_THROW(app.run({dir / "nope", "--out", dir / "o"}, out), core::InputError);
+    EXPECT_THROW(app.run({"a", "b"}, out), core::InputError);
+    EXPECT_EQ(app.run({"--help"}, out), 0);
+    EXPECT_NE(out.str().find("Usage: semantic-mapper"), std::string::npos);
+}
