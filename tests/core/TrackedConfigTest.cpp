@@ -108,3 +108,43 @@ TEST(TrackedConfig, YamlSubsetWithUnscopedKeysCommentsAndQuotes)
     EXPECT_THROW(bad.loadYamlText("  x: 1\n", "y.yaml"), InputError);
     EXPECT_THROW(bad.loadYamlText("justtext\n", "y.yaml"), InputError);
 }
+
+TEST(TrackedConfig, ParserAndValueFailuresBecomeInputErrorsNamingTheSource)
+{
+    TrackedConfig cfg;
+    // MRPT's INI parser rejects malformed $env{} expansions with its own exception type.
+    bool threw = false;
+    try
+    {
+        cfg.loadText("9camut$env{3\n[vum]\n", "env.ini");
+    }
+    catch (const InputError& e)
+    {
+        threw = true;
+        EXPECT_NE(std::string(e.what()).find("env.ini"), std::string::npos) << e.what();
+    }
+    EXPECT_TRUE(threw);
+
+    struct Strict : mrpt::config::CLoadableOptions
+    {
+        void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string&) override
+        {
+            if (c.read_int("s", "n", 0) < 0)
+                throw InputError("[s] n must be >= 0");
+            if (c.read_int("s", "m", 0) > 0)
+                throw std::runtime_error("library failure");
+        }
+    } strict;
+    cfg.loadText("[s]\nn = -1\n", "neg.ini");
+    try
+    {
+        cfg.load(strict);
+        FAIL();
+    }
+    catch (const InputError& e)
+    {
+        EXPECT_EQ(std::string(e.what()), "config 'neg.ini': [s] n must be >= 0");
+    }
+    cfg.loadText("[s]\nm = 1\n", "m.ini");
+    EXPECT_THROW(cfg.load(strict), InputError);
+}

@@ -19,7 +19,7 @@ TEST(SevenScenes, FolderAndConvertedRawlogGiveIdenticalFrames)
     core::TrackedConfig cfg;
     cfg.loadFile(test::sourceDir() + "/config/7scenes.ini");
     io::FrameSourceParameters p;
-    p.loadFromConfigFile(cfg, "");
+    cfg.load(p);
     cfg.ensureAllKeysUsed();
     ASSERT_EQ(p.tum_depth_factor, 1000.0);
 

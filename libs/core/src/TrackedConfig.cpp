@@ -1,5 +1,6 @@
 #include "smap/core/TrackedConfig.h"
 
+#include <mrpt/core/exceptions.h>
 #include <mrpt/core/format.h>
 #include <mrpt/system/string_utils.h>
 
@@ -68,7 +69,7 @@ std::string yamlToIni(const std::string& yaml, const std::string& source)
         else if (!indented)
         {
             current.clear();
-            unscoped += key + " = " + value + "\n";
+            unscoped.append(key).append(" = ").append(value).append("\n");
         }
         else if (current.empty())
         {
@@ -81,7 +82,7 @@ std::string yamlToIni(const std::string& yaml, const std::string& source)
                 throw InputError(
                     mrpt::format("%s:%zu: nested section '%s' (only two levels are supported)",
                                  source.c_str(), lineNo, key.c_str()));
-            sections += key + " = " + value + "\n";
+            sections.append(key).append(" = ").append(value).append("\n");
         }
     }
     return unscoped + sections;
@@ -105,24 +106,54 @@ void TrackedConfig::loadFile(const std::string& path)
     const std::string lower = mrpt::system::lowerCase(path);
     if (endsWith(lower, ".yaml") || endsWith(lower, ".yml"))
     {
-        setContent(yamlToIni(ss.str(), path));
+        setContentChecked(yamlToIni(ss.str(), path));
     }
     else
     {
-        setContent(ss.str());
+        setContentChecked(ss.str());
+    }
+}
+
+void TrackedConfig::setContentChecked(const std::string& iniText)
+{
+    try
+    {
+        setContent(iniText);
+    }
+    catch (const std::exception& e)
+    {
+        throw InputError(mrpt::format("config '%s': %s", sourceName_.c_str(),
+                                      mrpt::exception_to_str(e).c_str()));
     }
 }
 
 void TrackedConfig::loadText(const std::string& iniText, const std::string& sourceName)
 {
     sourceName_ = sourceName;
-    setContent(iniText);
+    setContentChecked(iniText);
+}
+
+void TrackedConfig::load(mrpt::config::CLoadableOptions& params, const std::string& section) const
+{
+    try
+    {
+        params.loadFromConfigFile(*this, section);
+    }
+    catch (const InputError& e)
+    {
+        throw InputError(mrpt::format("config '%s': %s", sourceName_.c_str(), e.what()));
+    }
+    catch (const std::exception& e)
+    {
+        throw InputError(mrpt::format("config '%s': %s", sourceName_.c_str(),
+                                      mrpt::exception_to_str(e).c_str()));
+    }
 }
 
 void TrackedConfig::loadYamlText(const std::string& yamlText, const std::string& sourceName)
 {
     sourceName_ = sourceName;
-    setContent(yamlToIni(yamlText, sourceName));
+    setContentChecked(yamlToIni(yamlText, sourceName));
 }
 
 void TrackedConfig::applyOverride(const std::string& assignment)
@@ -138,7 +169,15 @@ void TrackedConfig::applyOverride(const std::string& assignment)
     const std::string section = mrpt::system::trim(assignment.substr(0, dot));
     const std::string key = mrpt::system::trim(assignment.substr(dot + 1, eq - dot - 1));
     const std::string value = mrpt::system::trim(assignment.substr(eq + 1));
-    write(section, key, value);
+    try
+    {
+        write(section, key, value);
+    }
+    catch (const std::exception& e)
+    {
+        throw InputError(
+            mrpt::format("--set '%s': %s", assignment.c_str(), mrpt::exception_to_str(e).c_str()));
+    }
 }
 
 std::string TrackedConfig::readString(const std::string& section, const std::string& name,

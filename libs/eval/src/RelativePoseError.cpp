@@ -63,6 +63,7 @@ RpeResult computeRpe(const core::Trajectory& groundTruth, const core::Trajectory
     std::sort(matches.begin(), matches.end(),
               [&](const auto& a, const auto& b) { return tGt[a.first] < tGt[b.first]; });
     std::vector<double> times;
+    times.reserve(matches.size());
     for (const auto& m : matches)
         times.push_back(tGt[m.first]);
 

@@ -76,7 +76,7 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
     for (const auto& s : cl.values("set"))
         cfg.applyOverride(s);
     io::FrameSourceParameters sourceParams;
-    sourceParams.loadFromConfigFile(cfg, "");
+    cfg.load(sourceParams);
     cfg.ensureAllKeysUsed();
 
     auto source = io::openFrameSource(input, sourceParams);

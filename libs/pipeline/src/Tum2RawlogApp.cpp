@@ -45,7 +45,7 @@ int Tum2RawlogApp::run(const std::vector<std::string>& args, std::ostream& out)
     for (const auto& s : cl.values("set"))
         cfg.applyOverride(s);
     io::FrameSourceParameters params;
-    params.loadFromConfigFile(cfg, "");
+    cfg.load(params);
     cfg.ensureAllKeysUsed();
 
     io::TumSource source(cl.positionals()[0], params);

@@ -14,10 +14,10 @@ class JsonValue
 public:
     static JsonValue object();
     static JsonValue array();
-    static JsonValue number(double v);
-    static JsonValue integer(int64_t v);
-    static JsonValue string(const std::string& v);
-    static JsonValue boolean(bool v);
+    static JsonValue number(double d);
+    static JsonValue integer(int64_t i);
+    static JsonValue string(const std::string& s);
+    static JsonValue boolean(bool b);
 
     /// Object members keep insertion order; returns *this for chaining.
     JsonValue& set(const std::string& key, JsonValue v);

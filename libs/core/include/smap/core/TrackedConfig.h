@@ -3,6 +3,7 @@
 #pragma once
 
 #include <mrpt/config/CConfigFileMemory.h>
+#include <mrpt/config/CLoadableOptions.h>
 
 #include <set>
 #include <string>
@@ -28,6 +29,10 @@ public:
 
     const std::string& sourceName() const { return sourceName_; }
 
+    /// Fills `params` from this configuration. Any failure (a bad value, a parse error inside
+    /// MRPT) becomes core::InputError prefixed with the configuration's source name.
+    void load(mrpt::config::CLoadableOptions& params, const std::string& section = {}) const;
+
     /// Throws InputError listing every key present in the configuration that no component
     /// read, with the keys that are valid in its section.
     void ensureAllKeysUsed() const;
@@ -40,6 +45,8 @@ protected:
                            bool failIfNotFound = false) const override;
 
 private:
+    void setContentChecked(const std::string& iniText);
+
     std::string sourceName_ = "(built-in defaults)";
     /// "section/key" in lower case. Mutable: reading is logically const for callers.
     mutable std::set<std::string> readKeys_;
