@@ -124,13 +124,17 @@ cv::Mat renderAtePlot(const AteResult& ate, const PlotOptions& o)
     for (const auto& p : ate.perPose)
         cv::line(img, fixed(toPixel(p.gtPosition)), fixed(toPixel(p.estPositionAligned)), kError, 1,
                  cv::LINE_AA, shift);
+    // Estimate first, ground truth on top, so the reference stays visible.
+    for (size_t i = 1; i < ate.perPose.size(); i++)
+    {
+        cv::line(img, fixed(toPixel(ate.perPose[i - 1].estPositionAligned)),
+                 fixed(toPixel(ate.perPose[i].estPositionAligned)), kEstimate, 2, cv::LINE_AA,
+                 shift);
+    }
     for (size_t i = 1; i < ate.perPose.size(); i++)
     {
         cv::line(img, fixed(toPixel(ate.perPose[i - 1].gtPosition)),
                  fixed(toPixel(ate.perPose[i].gtPosition)), kGroundTruth, 2, cv::LINE_AA, shift);
-        cv::line(img, fixed(toPixel(ate.perPose[i - 1].estPositionAligned)),
-                 fixed(toPixel(ate.perPose[i].estPositionAligned)), kEstimate, 2, cv::LINE_AA,
-                 shift);
     }
 
     putText(img, o.title, {left, 30}, 0.75, kBlack, 2);

@@ -315,7 +315,17 @@ RawlogSource::RawlogSource(const std::string& path, const FrameSourceParameters&
     impl_->path = path;
     impl_->params = params;
     const fs::path p(path);
-    impl_->imagesDir = (p.parent_path() / (p.stem().string() + "_Images")).string();
+    // Same search order as MRPT's CRawlog::detectImagesDirectory (RawLogViewer, rawlog-edit).
+    impl_->imagesDir = (p.parent_path() / "Images").string();
+    for (const char* suffix : {"_Images", "_images", "_IMAGES"})
+    {
+        const fs::path candidate = p.parent_path() / (p.stem().string() + suffix);
+        if (fs::is_directory(candidate))
+        {
+            impl_->imagesDir = candidate.string();
+            break;
+        }
+    }
     if (!fs::is_regular_file(path) || !impl_->stream.open(path))
         throw core::InputError(mrpt::format("cannot open rawlog '%s'", path.c_str()));
     impl_->archive.emplace(impl_->stream);

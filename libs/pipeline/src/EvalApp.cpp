@@ -2,6 +2,8 @@
 
 #include <mrpt/core/format.h>
 
+#include <filesystem>
+
 #include "smap/core/AtomicFile.h"
 #include "smap/core/InputError.h"
 #include "smap/eval/EvalReport.h"
@@ -80,7 +82,8 @@ int EvalApp::run(const std::vector<std::string>& args, std::ostream& out)
         if (const auto p = cl.value("plot"))
         {
             eval::PlotOptions po;
-            po.title = "ATE: " + pos[2];
+            po.title = "ATE: " + std::filesystem::path(pos[2]).filename().string() + " vs " +
+                       std::filesystem::path(pos[1]).filename().string();
             if (const auto a = cl.value("axes"))
             {
                 if (a->size() != 2)

@@ -2,7 +2,7 @@
 //
 // Handles both rawlog layouts (CSensoryFrame + CActionCollection pairs, and bare observations),
 // plain or gzip files, images stored inside the rawlog or externally in "<name>_Images/" next
-// to it (as RawLogViewer resolves them), range images in any rangeUnits, range_is_depth ==
+// to it (searched as RawLogViewer does), range images in any rangeUnits, range_is_depth ==
 // false, and depth cameras that do not coincide with the colour camera (the depth is
 // registered onto the colour image).
 #pragma once
@@ -27,7 +27,8 @@ public:
     std::string description() const override;
     std::string groundTruthPath() const override;
 
-    /// "<dir>/<stem>_Images": base of relative external image paths.
+    /// Base of relative external image paths: the first existing of "<dir>/<stem>_Images",
+    /// "_images", "_IMAGES", else "<dir>/Images" (MRPT's own search order).
     const std::string& imagesDirectory() const;
     /// Entries read so far, by MRPT class name (observations inside sensory frames included).
     const std::map<std::string, size_t>& classCounts() const;
