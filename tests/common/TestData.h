@@ -6,8 +6,12 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <random>
 #include <string>
+
+#include "smap/core/InputError.h"
 
 namespace smap::test
 {
@@ -36,6 +40,27 @@ inline bool runningInCi()
 {
     const char* ci = std::getenv("CI");
     return ci != nullptr && std::string(ci) == "true";
+}
+
+inline std::string readTextFile(const std::string& path)
+{
+    std::ifstream f(path);
+    return {std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
+}
+
+/// The message of the core::InputError that `fn` throws, or "(no error)".
+template <typename Fn>
+std::string inputErrorOf(Fn&& fn)
+{
+    try
+    {
+        fn();
+    }
+    catch (const core::InputError& e)
+    {
+        return e.what();
+    }
+    return "(no error)";
 }
 
 /// A fresh folder under the system temp dir, removed at scope exit.

@@ -10,11 +10,6 @@ namespace fs = std::filesystem;
 
 namespace
 {
-std::string readAll(const std::string& p)
-{
-    std::ifstream f(p);
-    return {std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
-}
 size_t countFiles(const std::string& dir)
 {
     return static_cast<size_t>(
@@ -31,9 +26,9 @@ TEST(AtomicFile, CommitReplacesTarget)
     }
     smap::core::AtomicTextFile f(p);
     f.stream() << "new";
-    EXPECT_EQ(readAll(p), "old");  // untouched until commit
+    EXPECT_EQ(smap::test::readTextFile(p), "old");  // untouched until commit
     f.commit();
-    EXPECT_EQ(readAll(p), "new");
+    EXPECT_EQ(smap::test::readTextFile(p), "new");
     EXPECT_EQ(countFiles(dir.str()), 1u);
 }
 
@@ -62,7 +57,7 @@ TEST(AtomicFile, ThrowingWriterKeepsOldFile)
                                                      throw std::runtime_error("disk full");
                                                  }),
                  std::runtime_error);
-    EXPECT_EQ(readAll(p), "old");
+    EXPECT_EQ(smap::test::readTextFile(p), "old");
     EXPECT_EQ(countFiles(dir.str()), 1u);
     EXPECT_THROW(smap::core::writeFileAtomically(dir / "none.txt", [](const std::string&) {}),
                  std::runtime_error);

@@ -26,9 +26,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
         try
         {
             smap::core::TrackedConfig cfg;
-            if (mode == 0) cfg.loadText(text, "fuzz.ini");
-            if (mode == 1) cfg.loadYamlText(text, "fuzz.yaml");
-            if (mode == 2) cfg.applyOverride(text);
+            if (mode == 0)
+                cfg.loadText(text, "fuzz.ini");
+            if (mode == 1)
+                cfg.loadYamlText(text, "fuzz.yaml");
+            if (mode == 2)
+                cfg.applyOverride(text);
             loadAll(cfg);
         }
         catch (const smap::core::InputError&)

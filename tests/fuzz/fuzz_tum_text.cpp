@@ -33,9 +33,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
         const auto t = smap::io::parseTumTrajectory(in, "fuzz");
         // Whatever parsed must format and parse back to the same number of poses.
         std::string out;
-        for (const auto& p : t) out += smap::io::formatTumPose(p) + "\n";
+        for (const auto& p : t)
+            out += smap::io::formatTumPose(p) + "\n";
         std::istringstream back(out);
-        if (smap::io::parseTumTrajectory(back, "fuzz-roundtrip").size() != t.size()) __builtin_trap();
+        if (smap::io::parseTumTrajectory(back, "fuzz-roundtrip").size() != t.size())
+            __builtin_trap();
     }
     catch (const smap::core::InputError&)
     {

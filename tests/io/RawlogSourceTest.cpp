@@ -19,18 +19,6 @@ namespace fs = std::filesystem;
 
 namespace
 {
-std::string errorOf(const std::function<void()>& fn)
-{
-    try
-    {
-        fn();
-    }
-    catch (const core::InputError& e)
-    {
-        return e.what();
-    }
-    return "(no error)";
-}
 
 std::vector<core::RgbdFrame> readAll(const std::string& path,
                                      const io::FrameSourceParameters& p = {})
@@ -108,16 +96,19 @@ TEST(RawlogSource, ReadsMrptSampleWithColourIntrinsicsAndRegisteredDepth)
     for (size_t i = 0; i < px.size(); i++)
     {
         const long u = std::lround(px[i].x), v = std::lround(px[i].y);
-        if (u < 0 || v < 0 || u >= 640 || v >= 480) continue;
+        if (u < 0 || v < 0 || u >= 640 || v >= 480)
+            continue;
         float& z = nearest.at<float>(static_cast<int>(v), static_cast<int>(u));
-        if (z == 0.0f || inColour[i].z < z) z = static_cast<float>(inColour[i].z);
+        if (z == 0.0f || inColour[i].z < z)
+            z = static_cast<float>(inColour[i].z);
     }
     size_t both = 0, agree = 0, onlyOne = 0;
     for (int v = 0; v < 480; v++)
         for (int u = 0; u < 640; u++)
         {
             const float a = nearest.at<float>(v, u), b = f.depth.at<float>(v, u);
-            if ((a > 0) != (b > 0)) onlyOne++;
+            if ((a > 0) != (b > 0))
+                onlyOne++;
             if (a > 0 && b > 0)
             {
                 both++;
@@ -170,7 +161,7 @@ TEST(RawlogSource, FiltersBySensorLabel)
     ASSERT_EQ(frames.size(), 1u);
     EXPECT_NEAR(frames[0].timestamp, 51.0, 1e-6);
     p.rawlog_sensor_label = "C";
-    const std::string e = errorOf([&] { readAll(dir / "two.rawlog", p); });
+    const std::string e = smap::test::inputErrorOf([&] { readAll(dir / "two.rawlog", p); });
     EXPECT_NE(e.find("other than 'C'"), std::string::npos) << e;
 }
 
@@ -227,7 +218,7 @@ TEST(RawlogSource, ExternallyStoredImagesResolveNextToTheRawlog)
     fs::rename(dir / "rec_images", imgDir);
 
     fs::remove(imgDir + "/rgb/c3.png");
-    const std::string e = errorOf([&] { readAll(dir / "rec.rawlog"); });
+    const std::string e = smap::test::inputErrorOf([&] { readAll(dir / "rec.rawlog"); });
     EXPECT_NE(e.find("rec_Images/rgb/c3.png"), std::string::npos) << e;
 }
 
@@ -237,16 +228,18 @@ TEST(RawlogSource, RawlogWithoutRgbdSaysWhatItContains)
     auto sf = mrpt::obs::CSensoryFrame::Create();
     sf->insert(mrpt::obs::CObservation2DRangeScan::Create());
     test::writeRawlog(dir / "laser.rawlog", {mrpt::obs::CActionCollection::Create(), sf});
-    const std::string e = errorOf([&] { readAll(dir / "laser.rawlog"); });
+    const std::string e = smap::test::inputErrorOf([&] { readAll(dir / "laser.rawlog"); });
     EXPECT_NE(e.find("no usable RGB-D observation"), std::string::npos) << e;
     EXPECT_NE(e.find("mrpt::obs::CObservation2DRangeScan x1"), std::string::npos) << e;
     EXPECT_NE(e.find("mrpt::obs::CActionCollection x1"), std::string::npos) << e;
 
     std::ofstream(dir / "empty.rawlog").close();
-    EXPECT_NE(errorOf([&] { readAll(dir / "empty.rawlog"); }).find("contains: nothing"),
-              std::string::npos);
-    EXPECT_NE(errorOf([&] { readAll(dir / "missing.rawlog"); }).find("missing.rawlog"),
-              std::string::npos);
+    EXPECT_NE(
+        smap::test::inputErrorOf([&] { readAll(dir / "empty.rawlog"); }).find("contains: nothing"),
+        std::string::npos);
+    EXPECT_NE(
+        smap::test::inputErrorOf([&] { readAll(dir / "missing.rawlog"); }).find("missing.rawlog"),
+        std::string::npos);
 }
 
 TEST(RawlogSource, TruncatedRawlogIsAnErrorAfterTheGoodEntries)
@@ -259,7 +252,7 @@ TEST(RawlogSource, TruncatedRawlogIsAnErrorAfterTheGoodEntries)
     io::RawlogSource src(dir / "t.rawlog", {});
     EXPECT_TRUE(src.next().has_value());
     EXPECT_TRUE(src.next().has_value());
-    const std::string e = errorOf([&] { src.next(); });
+    const std::string e = smap::test::inputErrorOf([&] { src.next(); });
     EXPECT_NE(e.find("entry 3"), std::string::npos) << e;
     EXPECT_NE(e.find("t.rawlog"), std::string::npos) << e;
 }
@@ -274,6 +267,7 @@ TEST(RawlogSource, CameraOverrideReplacesObservationIntrinsics)
     ASSERT_EQ(f.size(), 1u);
     EXPECT_EQ(f[0].camera.fx, 75.0);
     p.camera = test::smallCamera(640, 480);
-    EXPECT_NE(errorOf([&] { readAll(dir / "o.rawlog", p); }).find("[camera] says 640x480"),
+    EXPECT_NE(smap::test::inputErrorOf([&] { readAll(dir / "o.rawlog", p); })
+                  .find("[camera] says 640x480"),
               std::string::npos);
 }

@@ -11,22 +11,6 @@
 using namespace smap::io;
 using smap::core::InputError;
 
-namespace
-{
-std::string errorOf(const std::function<void()>& fn)
-{
-    try
-    {
-        fn();
-    }
-    catch (const InputError& e)
-    {
-        return e.what();
-    }
-    return "(no error)";
-}
-}  // namespace
-
 TEST(TumTextFormats, ParsesListsWithCommentsTabsAndCommas)
 {
     std::istringstream in(
@@ -43,24 +27,28 @@ TEST(TumTextFormats, ParsesListsWithCommentsTabsAndCommas)
 TEST(TumTextFormats, MalformedLinesNameFileAndLine)
 {
     std::istringstream a("1.0 rgb/a.png\n2.0\n");
-    EXPECT_NE(errorOf([&] { parseTumList(a, "rgb.txt"); }).find("rgb.txt:2:"), std::string::npos);
+    EXPECT_NE(smap::test::inputErrorOf([&] { parseTumList(a, "rgb.txt"); }).find("rgb.txt:2:"),
+              std::string::npos);
     std::istringstream b("1.0 a.png\nx.0 b.png\n");
-    const std::string e = errorOf([&] { parseTumList(b, "depth.txt"); });
+    const std::string e = smap::test::inputErrorOf([&] { parseTumList(b, "depth.txt"); });
     EXPECT_NE(e.find("depth.txt:2:"), std::string::npos) << e;
     EXPECT_NE(e.find("'x.0'"), std::string::npos) << e;
     std::istringstream c("1 0 0 0 0 0 0 1\n2 0 0 0 0 0 0\n");
-    EXPECT_NE(errorOf([&] { parseTumTrajectory(c, "gt.txt"); }).find("gt.txt:2:"),
+    EXPECT_NE(smap::test::inputErrorOf([&] { parseTumTrajectory(c, "gt.txt"); }).find("gt.txt:2:"),
               std::string::npos);
     std::istringstream d("1 0 0 0 0 0 0 2\n");
-    EXPECT_NE(errorOf([&] { parseTumTrajectory(d, "gt.txt"); }).find("quaternion norm"),
-              std::string::npos);
-    std::istringstream n("1 nan 0 0 0 0 0 1\n");
-    EXPECT_NE(errorOf([&] { parseTumTrajectory(n, "gt.txt"); }).find("'nan'"), std::string::npos);
-    std::istringstream as("1 a.png 2\n");
     EXPECT_NE(
-        errorOf([&] { parseTumAssociations(as, "associations.txt"); }).find("associations.txt:1:"),
+        smap::test::inputErrorOf([&] { parseTumTrajectory(d, "gt.txt"); }).find("quaternion norm"),
         std::string::npos);
-    EXPECT_NE(errorOf([] { readTumTrajectory("/nonexistent/gt.txt"); }).find("/nonexistent/gt.txt"),
+    std::istringstream n("1 nan 0 0 0 0 0 1\n");
+    EXPECT_NE(smap::test::inputErrorOf([&] { parseTumTrajectory(n, "gt.txt"); }).find("'nan'"),
+              std::string::npos);
+    std::istringstream as("1 a.png 2\n");
+    EXPECT_NE(smap::test::inputErrorOf([&] { parseTumAssociations(as, "associations.txt"); })
+                  .find("associations.txt:1:"),
+              std::string::npos);
+    EXPECT_NE(smap::test::inputErrorOf([] { readTumTrajectory("/nonexistent/gt.txt"); })
+                  .find("/nonexistent/gt.txt"),
               std::string::npos);
 }
 

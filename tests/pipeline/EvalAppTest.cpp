@@ -17,11 +17,6 @@ void writeFile(const std::string& path, const std::string& text)
 {
     std::ofstream(path) << text;
 }
-std::string readFile(const std::string& path)
-{
-    std::ifstream f(path);
-    return {std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
-}
 }  // namespace
 
 TEST(EvalApp, AteWritesJsonAndPlot)
@@ -48,7 +43,7 @@ TEST(EvalApp, AteWritesJsonAndPlot)
                        dir / "ate.png"},
                       out),
               0);
-    const std::string j = readFile(dir / "ate.json");
+    const std::string j = smap::test::readTextFile(dir / "ate.json");
     for (const char* k : {"\"rmse\"", "\"mean\"", "\"median\"", "\"std\"", "\"min\"", "\"max\"",
                           "\"pairs\": 5", "\"coverage\": 1"})
         EXPECT_NE(j.find(k), std::string::npos) << k;
@@ -72,7 +67,8 @@ TEST(EvalApp, RpeAndArgumentErrors)
                        "frames", "--json", dir / "rpe.json"},
                       out),
               0);
-    EXPECT_NE(readFile(dir / "rpe.json").find("\"delta_unit\": \"frames\""), std::string::npos);
+    EXPECT_NE(smap::test::readTextFile(dir / "rpe.json").find("\"delta_unit\": \"frames\""),
+              std::string::npos);
     EXPECT_THROW(app.run({"ate", dir / "gt.txt"}, out), core::InputError);
     EXPECT_THROW(app.run({"rpe", dir / "gt.txt", dir / "gt.txt", "--plot", "x.png"}, out),
                  core::InputError);

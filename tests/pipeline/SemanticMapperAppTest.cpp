@@ -14,14 +14,9 @@ namespace fs = std::filesystem;
 
 namespace
 {
-std::string readFile(const std::string& path)
-{
-    std::ifstream f(path);
-    return {std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
-}
 size_t countLines(const std::string& path)
 {
-    const std::string s = readFile(path);
+    const std::string s = smap::test::readTextFile(path);
     return static_cast<size_t>(std::count(s.begin(), s.end(), '\n'));
 }
 std::string smallCameraIni()
@@ -39,7 +34,7 @@ TEST(SemanticMapperApp, RunsOnTheEmbeddedDefaultRecording)
     app.setMinLoggingLevel(mrpt::system::LVL_WARN);
     EXPECT_EQ(app.run({"--out", dir / "o"}, out), 0);
     EXPECT_EQ(app.result().frames, 1u);
-    const std::string summary = readFile(dir / "o/summary.json");
+    const std::string summary = smap::test::readTextFile(dir / "o/summary.json");
     EXPECT_NE(summary.find("\"frames\": 1"), std::string::npos) << summary;
     EXPECT_NE(summary.find("\"fx\": 521.179"), std::string::npos) << summary;
     EXPECT_EQ(countLines(dir / "o/frames.csv"), 2u);
@@ -60,11 +55,11 @@ TEST(SemanticMapperApp, ConfigAndOverridesReachTheSource)
                       out),
               0);
     EXPECT_EQ(app.result().frames, 3u);
-    const std::string eff = readFile(dir / "o/config-effective.ini");
+    const std::string eff = smap::test::readTextFile(dir / "o/config-effective.ini");
     EXPECT_NE(eff.find("stride = 2"), std::string::npos) << eff;
     EXPECT_NE(eff.find("depth_factor = 1000"), std::string::npos) << eff;
     // Depth factor 1000: the first frame's minimum depth is its smallest raw value / 1000.
-    const std::string csv = readFile(dir / "o/frames.csv");
+    const std::string csv = smap::test::readTextFile(dir / "o/frames.csv");
     EXPECT_NE(csv.find("0,100.000000,f0,"), std::string::npos) << csv;
 }
 

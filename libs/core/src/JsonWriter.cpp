@@ -2,7 +2,6 @@
 
 #include <charconv>
 #include <cmath>
-#include <cstdio>
 
 namespace smap::core
 {
@@ -96,9 +95,11 @@ std::string jsonEscape(const std::string& s)
             default:
                 if (static_cast<unsigned char>(c) < 0x20)
                 {
-                    char buf[8];
-                    std::snprintf(buf, sizeof(buf), "\\u%04x", c);
-                    out += buf;
+                    static constexpr char kHex[] = "0123456789abcdef";
+                    const auto u = static_cast<unsigned char>(c);
+                    out += "\\u00";
+                    out += kHex[u >> 4];
+                    out += kHex[u & 0xF];
                 }
                 else
                 {

@@ -4,8 +4,8 @@
 
 #include <algorithm>
 
+#include "TrajectoryAssociation.h"
 #include "smap/core/InputError.h"
-#include "smap/core/TimestampAssociation.h"
 
 namespace smap::eval
 {
@@ -27,13 +27,8 @@ AteResult computeAte(const core::Trajectory& groundTruth, const core::Trajectory
     if (estimate.empty())
         throw core::InputError("ATE: the estimated trajectory is empty");
 
-    std::vector<double> tGt, tEst;
-    for (const auto& p : groundTruth)
-        tGt.push_back(p.timestamp);
-    for (const auto& p : estimate)
-        tEst.push_back(p.timestamp);
     const auto matches =
-        core::associateTimestamps(tGt, tEst, options.maxDifference, options.offset);
+        detail::associateTrajectories(groundTruth, estimate, options.maxDifference, options.offset);
     if (matches.empty())
     {
         throw core::InputError(mrpt::format(

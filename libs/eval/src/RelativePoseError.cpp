@@ -5,8 +5,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "TrajectoryAssociation.h"
 #include "smap/core/InputError.h"
-#include "smap/core/TimestampAssociation.h"
 
 namespace smap::eval
 {
@@ -49,23 +49,20 @@ RpeResult computeRpe(const core::Trajectory& groundTruth, const core::Trajectory
     if (groundTruth.empty() || estimate.empty())
         throw core::InputError("RPE: a trajectory is empty");
 
-    std::vector<double> tGt, tEst;
-    for (const auto& p : groundTruth)
-        tGt.push_back(p.timestamp);
-    for (const auto& p : estimate)
-        tEst.push_back(p.timestamp);
-    auto matches = core::associateTimestamps(tGt, tEst, options.maxDifference, options.offset);
+    auto matches =
+        detail::associateTrajectories(groundTruth, estimate, options.maxDifference, options.offset);
     if (matches.size() < 2)
         throw core::InputError(
             mrpt::format("RPE: only %zu pose(s) of the estimate lie within %g s of the ground "
                          "truth: the trajectories do not overlap",
                          matches.size(), options.maxDifference));
     std::sort(matches.begin(), matches.end(),
-              [&](const auto& a, const auto& b) { return tGt[a.first] < tGt[b.first]; });
+              [&](const auto& a, const auto& b)
+              { return groundTruth[a.first].timestamp < groundTruth[b.first].timestamp; });
     std::vector<double> times;
     times.reserve(matches.size());
     for (const auto& m : matches)
-        times.push_back(tGt[m.first]);
+        times.push_back(groundTruth[m.first].timestamp);
 
     const double gapTolerance = std::max(options.maxDifference, 0.05 * options.delta);
     std::vector<double> transErr, rotErr;

@@ -9,8 +9,8 @@
 #include "smap/core/AtomicFile.h"
 #include "smap/core/InputError.h"
 #include "smap/core/JsonWriter.h"
-#include "smap/core/TrackedConfig.h"
 #include "smap/io/FrameSource.h"
+#include "smap/pipeline/AppConfiguration.h"
 #include "smap/pipeline/CommandLine.h"
 #include "smap/pipeline/FrameSummary.h"
 
@@ -70,14 +70,8 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
     const std::string outDir = cl.value("out").value_or("smap-out");
 
     // Configuration: file, then --set overrides; every component loads its parameters once.
-    core::TrackedConfig cfg;
-    if (const auto c = cl.value("config"))
-        cfg.loadFile(*c);
-    for (const auto& s : cl.values("set"))
-        cfg.applyOverride(s);
     io::FrameSourceParameters sourceParams;
-    cfg.load(sourceParams);
-    cfg.ensureAllKeysUsed();
+    loadAppConfiguration(cl, {&sourceParams});
 
     auto source = io::openFrameSource(input, sourceParams);
     source->setMinLoggingLevel(getMinLoggingLevel());

@@ -1,9 +1,9 @@
 #include "smap/pipeline/Tum2RawlogApp.h"
 
 #include "smap/core/InputError.h"
-#include "smap/core/TrackedConfig.h"
 #include "smap/io/TumSource.h"
 #include "smap/io/TumToRawlogConverter.h"
+#include "smap/pipeline/AppConfiguration.h"
 #include "smap/pipeline/CommandLine.h"
 
 namespace smap::pipeline
@@ -39,14 +39,8 @@ int Tum2RawlogApp::run(const std::vector<std::string>& args, std::ostream& out)
     if (maxFrames < 0)
         throw core::InputError("--max-frames must be >= 0");
 
-    core::TrackedConfig cfg;
-    if (const auto c = cl.value("config"))
-        cfg.loadFile(*c);
-    for (const auto& s : cl.values("set"))
-        cfg.applyOverride(s);
     io::FrameSourceParameters params;
-    cfg.load(params);
-    cfg.ensureAllKeysUsed();
+    loadAppConfiguration(cl, {&params});
 
     io::TumSource source(cl.positionals()[0], params);
     source.setMinLoggingLevel(getMinLoggingLevel());
