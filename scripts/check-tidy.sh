@@ -4,7 +4,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 [ -f build/compile_commands.json ] || cmake --preset release >/dev/null
-if [ $# -gt 0 ]; then files=("$@"); else mapfile -t files < <(git ls-files 'libs/*.cpp' 'apps/*.cpp'); fi
+if [ $# -gt 0 ]; then files=("$@"); else mapfile -t files < <(git ls-files --cached --others --exclude-standard 'libs/*.cpp' 'apps/*.cpp'); fi
 printf '%s\n' "${files[@]}" | xargs -P "$(nproc)" -n 4 clang-tidy -p build --quiet 2>/dev/null | tee /tmp/smap-tidy.log
 if grep -qE '(warning|error):' /tmp/smap-tidy.log; then
     echo "check-tidy: findings above" >&2

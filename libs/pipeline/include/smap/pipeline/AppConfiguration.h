@@ -12,5 +12,6 @@ namespace smap::pipeline
 {
 /// Throws core::InputError naming the file and key for unreadable files, bad values and keys
 /// that none of `params` reads.
-void loadAppConfiguration(const CommandLine& cl, const std::vector<mrpt::config::CLoadableOptions*>& params);
+void loadAppConfiguration(const CommandLine& cl,
+                          const std::vector<mrpt::config::CLoadableOptions*>& params);
 }  // namespace smap::pipeline
