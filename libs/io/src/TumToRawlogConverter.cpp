@@ -8,7 +8,9 @@
 #include <mrpt/system/CTicTac.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
+#include <opencv2/core.hpp>
 
 #include "smap/core/AtomicFile.h"
 #include "smap/core/InputError.h"
@@ -75,7 +77,6 @@ TumToRawlogConverter::Result TumToRawlogConverter::convert(TumSource& source, do
                     obs->hasRangeImage = true;
                     obs->range_is_depth = true;
                     obs->rangeUnits = rangeUnits;
-                    obs->maxRange = 65535.0f * rangeUnits;
                     obs->rangeImage_setSize(raw.rows, raw.cols);
                     for (int r = 0; r < raw.rows; r++)
                     {
@@ -83,6 +84,11 @@ TumToRawlogConverter::Result TumToRawlogConverter::convert(TumSource& source, do
                         for (int c = 0; c < raw.cols; c++)
                             obs->rangeImage(r, c) = src[c];
                     }
+                    // A Kinect-like device maximum (viewers scale depth by it), raised when the
+                    // frame holds farther data so that nothing lies beyond maxRange.
+                    double maxRaw = 0.0;
+                    cv::minMaxLoc(raw, nullptr, &maxRaw);
+                    obs->maxRange = std::max(10.0f, static_cast<float>(maxRaw) * rangeUnits);
                     const fs::path depthRel =
                         fs::path(e.depthFile).lexically_normal().replace_extension(".bin");
                     fs::create_directories((tmpImagesDir / depthRel).parent_path());
