@@ -10,6 +10,8 @@ packages=(
     libmrpt-dev libopencv-dev libeigen3-dev libgtest-dev libgmock-dev libbenchmark-dev zlib1g-dev
     # MRPT's sample recordings (tests_rgbd.rawlog is the embedded default input)
     mrpt-common
+    # headless OpenGL (EGL on Mesa) for the synthetic renderer
+    libegl1 libegl-mesa0 libgl1-mesa-dri
     # tests (independent ATE reference) and developer checks (format, static analysis, fuzzing)
     python3 python3-numpy clang clang-format clang-tidy libclang-rt-14-dev
 )

@@ -1,0 +1,31 @@
+// Writes generated frames to disk in the TUM RGB-D layout plus ground-truth folders.
+//
+// DIR/rgb/NNNNNN.png, depth/NNNNNN.png (16-bit, factor 5000), labels/ (8-bit VOC ids),
+// instances/ (16-bit), dynamic/ (8-bit, 255 = moving), rgb.txt, depth.txt, associations.txt,
+// groundtruth.txt (T_world_cam), objects/<name>.txt (world trajectory of each person's root,
+// TUM format), meta.json (preset, seed, intrinsics, depth factor, instances and classes).
+#pragma once
+
+#include <mrpt/system/COutputLogger.h>
+
+#include <string>
+
+#include "smap/sim/SequenceGenerator.h"
+
+namespace smap::pipeline
+{
+class SyntheticSequenceWriter : public mrpt::system::COutputLogger
+{
+public:
+    SyntheticSequenceWriter();
+    /// Renders frames [0, frames) and writes them into `folder`, which appears only when
+    /// complete (written under a temporary name, then renamed; an existing folder is replaced).
+    void write(sim::SequenceGenerator& generator, size_t frames, const std::string& folder);
+
+    static constexpr double kDepthFactor = 5000.0;
+};
+
+/// A PNG contact sheet of `count` frames spread over the sequence folder: colour, labels
+/// overlay, dynamic-mask overlay and depth, one row per frame.
+void writeContactSheet(const std::string& sequenceFolder, size_t count, const std::string& pngPath);
+}  // namespace smap::pipeline

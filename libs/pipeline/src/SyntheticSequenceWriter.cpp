@@ -1,0 +1,204 @@
+#include "smap/pipeline/SyntheticSequenceWriter.h"
+
+#include <mrpt/core/format.h>
+#include <mrpt/system/CTicTac.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "smap/core/AtomicFile.h"
+#include "smap/core/InputError.h"
+#include "smap/core/JsonWriter.h"
+#include "smap/io/TumTextFormats.h"
+
+namespace fs = std::filesystem;
+
+namespace smap::pipeline
+{
+namespace
+{
+void writePng(const fs::path& path, const cv::Mat& img)
+{
+    if (!cv::imwrite(path.string(), img))
+        throw std::runtime_error("cannot write " + path.string());
+}
+
+/// The PASCAL VOC colour map (bit-interleaved), for overlays.
+cv::Vec3b vocColour(uint8_t label)
+{
+    int r = 0, g = 0, b = 0, c = label;
+    for (int j = 0; j < 8; j++)
+    {
+        r |= ((c >> 0) & 1) << (7 - j);
+        g |= ((c >> 1) & 1) << (7 - j);
+        b |= ((c >> 2) & 1) << (7 - j);
+        c >>= 3;
+    }
+    return {static_cast<uchar>(b), static_cast<uchar>(g), static_cast<uchar>(r)};
+}
+}  // namespace
+
+SyntheticSequenceWriter::SyntheticSequenceWriter() : COutputLogger("SyntheticSequenceWriter") {}
+
+void SyntheticSequenceWriter::write(sim::SequenceGenerator& gen, size_t frames,
+                                    const std::string& folder)
+{
+    const fs::path out(folder);
+    const fs::path parent = out.parent_path().empty() ? fs::path(".") : out.parent_path();
+    if (!fs::is_directory(parent))
+        throw core::InputError(
+            mrpt::format("output folder's parent '%s' does not exist", parent.c_str()));
+    const fs::path tmp =
+        parent / ("." + out.filename().string() + ".tmp-" + std::to_string(::getpid()));
+    fs::remove_all(tmp);
+    try
+    {
+        for (const char* d : {"rgb", "depth", "labels", "instances", "dynamic", "objects"})
+            fs::create_directories(tmp / d);
+        std::ofstream rgbList(tmp / "rgb.txt"), depthList(tmp / "depth.txt"),
+            assoc(tmp / "associations.txt");
+        rgbList << "# colour images\n# timestamp filename\n";
+        depthList
+            << "# depth maps, 16-bit PNG, depth factor 5000 (0 = invalid)\n# timestamp filename\n";
+        core::Trajectory gt;
+        std::map<std::string, core::Trajectory> objects;
+        mrpt::system::CTicTac timer;
+        double lastReport = 0.0;
+        for (size_t i = 0; i < frames; i++)
+        {
+            const sim::SyntheticFrame f = gen.frame(i);
+            const std::string name = mrpt::format("%06zu.png", i);
+            writePng(tmp / "rgb" / name, f.rendered.colour);
+            cv::Mat depth16;
+            f.rendered.depth.convertTo(depth16, CV_16UC1, kDepthFactor);
+            writePng(tmp / "depth" / name, depth16);
+            writePng(tmp / "labels" / name, f.rendered.labels);
+            writePng(tmp / "instances" / name, f.rendered.instances);
+            writePng(tmp / "dynamic" / name, f.rendered.dynamic);
+            const std::string ts = mrpt::format("%.6f", f.timestamp);
+            rgbList << ts << " rgb/" << name << "\n";
+            depthList << ts << " depth/" << name << "\n";
+            assoc << ts << " rgb/" << name << " " << ts << " depth/" << name << "\n";
+            gt.push_back({f.timestamp, f.T_world_cam});
+            for (const auto& [obj, pose] : f.objectPoses)
+                objects[obj].push_back({f.timestamp, pose});
+            if (timer.Tac() - lastReport > 2.0)
+            {
+                lastReport = timer.Tac();
+                MRPT_LOG_INFO_FMT("frame %zu / %zu (%.1f frames/s)", i + 1, frames,
+                                  (i + 1) / lastReport);
+            }
+        }
+        for (auto* s : {&rgbList, &depthList, &assoc})
+        {
+            s->close();
+            if (s->fail())
+                throw std::runtime_error("cannot write the frame lists in " + tmp.string());
+        }
+        io::writeTumTrajectory((tmp / "groundtruth.txt").string(), gt,
+                               "ground truth T_world_cam (optical frame), world z up");
+        for (const auto& [obj, traj] : objects)
+            io::writeTumTrajectory((tmp / "objects" / (obj + ".txt")).string(), traj,
+                                   obj + " root pose (on the floor, x forward, z up)");
+
+        const auto& o = gen.options();
+        auto cam = core::JsonValue::object();
+        cam.set("width", o.camera.width)
+            .set("height", o.camera.height)
+            .set("fx", o.camera.fx)
+            .set("fy", o.camera.fy);
+        cam.set("cx", o.camera.cx).set("cy", o.camera.cy);
+        auto instances = core::JsonValue::array();
+        for (const auto& [id, cls] : gen.scene().instanceClasses())
+        {
+            auto e = core::JsonValue::object();
+            e.set("instance", static_cast<int>(id)).set("class", static_cast<int>(cls));
+            instances.push(e);
+        }
+        auto meta = core::JsonValue::object();
+        meta.set("generator", "smap-synth")
+            .set("preset", gen.preset().name)
+            .set("seed", static_cast<int64_t>(o.seed));
+        meta.set("frames", static_cast<uint64_t>(frames)).set("fps", o.fps);
+        meta.set("camera_motion", sim::toString(gen.preset().motion));
+        meta.set("walking_people", gen.preset().walking)
+            .set("sitting_people", gen.preset().sitting);
+        meta.set("camera", cam)
+            .set("depth_factor", kDepthFactor)
+            .set("noise_free_depth", o.noiseFreeDepth);
+        meta.set("labels",
+                 "PASCAL VOC ids: 0 background, 9 chair, 11 diningtable, 15 person, 16 "
+                 "pottedplant, 18 sofa, 20 tvmonitor");
+        meta.set("world_frame", "z up, floor at z = 0, metres");
+        meta.set("instances", instances);
+        {
+            core::AtomicTextFile f((tmp / "meta.json").string());
+            f.stream() << meta.dump();
+            f.commit();
+        }
+        fs::remove_all(out);
+        fs::rename(tmp, out);
+    }
+    catch (...)
+    {
+        std::error_code ec;
+        fs::remove_all(tmp, ec);
+        throw;
+    }
+}
+
+void writeContactSheet(const std::string& sequenceFolder, size_t count, const std::string& pngPath)
+{
+    const fs::path dir(sequenceFolder);
+    std::vector<fs::path> frames;
+    for (const auto& e : fs::directory_iterator(dir / "rgb"))
+        frames.push_back(e.path().filename());
+    std::sort(frames.begin(), frames.end());
+    if (frames.empty())
+        throw core::InputError("no frames in " + (dir / "rgb").string());
+    count = std::min(count, frames.size());
+    const int tw = 320, th = 240;
+    cv::Mat sheet(th * static_cast<int>(count), tw * 4, CV_8UC3, cv::Scalar(0, 0, 0));
+    for (size_t r = 0; r < count; r++)
+    {
+        const fs::path name = frames[r * (frames.size() - 1) / std::max<size_t>(1, count - 1)];
+        const cv::Mat rgb = cv::imread((dir / "rgb" / name).string());
+        const cv::Mat labels = cv::imread((dir / "labels" / name).string(), cv::IMREAD_UNCHANGED);
+        const cv::Mat dyn = cv::imread((dir / "dynamic" / name).string(), cv::IMREAD_UNCHANGED);
+        const cv::Mat depth = cv::imread((dir / "depth" / name).string(), cv::IMREAD_UNCHANGED);
+        cv::Mat labelOverlay = rgb.clone(), dynOverlay = rgb.clone(), depthVis;
+        for (int v = 0; v < rgb.rows; v++)
+        {
+            for (int u = 0; u < rgb.cols; u++)
+            {
+                const cv::Vec3b c = vocColour(labels.at<uint8_t>(v, u));
+                auto& p = labelOverlay.at<cv::Vec3b>(v, u);
+                if (labels.at<uint8_t>(v, u) != 0)
+                    for (int k = 0; k < 3; k++)
+                        p[k] = static_cast<uchar>((p[k] + 2 * c[k]) / 3);
+                if (dyn.at<uint8_t>(v, u))
+                    dynOverlay.at<cv::Vec3b>(v, u) = {0, 0, 255};
+            }
+        }
+        cv::Mat d8;
+        depth.convertTo(d8, CV_8UC1, 255.0 / (6.0 * SyntheticSequenceWriter::kDepthFactor));
+        cv::applyColorMap(d8, depthVis, cv::COLORMAP_JET);
+        depthVis.setTo(cv::Scalar(0, 0, 0), depth == 0);
+        const cv::Mat tiles[4] = {rgb, labelOverlay, dynOverlay, depthVis};
+        const char* captions[4] = {"colour", "labels (VOC)", "dynamic mask", "depth 0-6 m"};
+        for (int c = 0; c < 4; c++)
+        {
+            cv::Mat small;
+            cv::resize(tiles[c], small, {tw, th}, 0, 0, cv::INTER_AREA);
+            cv::putText(small, captions[c] + std::string(" ") + name.stem().string(), {6, 18},
+                        cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(255, 255, 255), 1, cv::LINE_AA);
+            small.copyTo(sheet(cv::Rect(c * tw, static_cast<int>(r) * th, tw, th)));
+        }
+    }
+    core::writeFileAtomically(pngPath, [&](const std::string& tmp) { writePng(tmp, sheet); });
+}
+}  // namespace smap::pipeline

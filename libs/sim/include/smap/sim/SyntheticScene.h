@@ -1,0 +1,42 @@
+// A furnished office room with procedural textures, and the people in it.
+#pragma once
+
+#include <Eigen/Core>
+#include <map>
+#include <opencv2/core/mat.hpp>
+#include <vector>
+
+#include "smap/sim/Person.h"
+#include "smap/sim/SceneObject.h"
+
+namespace smap::sim
+{
+class SyntheticScene
+{
+public:
+    /// A 6 x 5 x 2.8 m office: textured walls, floor and ceiling, a door, a window, a desk
+    /// (diningtable) with a monitor, chairs, a sofa, a potted plant and shelves; `walking`
+    /// people on paths through the free floor (0 - 3) and `sitting` people (0 - 2: at the desk,
+    /// on the side chair). Same seed, same scene.
+    static SyntheticScene makeOffice(uint32_t seed, int walking, int sitting);
+
+    const std::vector<cv::Mat>& textures() const { return textures_; }
+    const std::vector<SceneObject>& staticObjects() const { return objects_; }
+    const std::vector<Person>& people() const { return people_; }
+    /// Class id of every instance id present.
+    const std::map<uint16_t, uint8_t>& instanceClasses() const { return instanceClasses_; }
+    /// Where the camera presets stand and look.
+    Eigen::Vector3d cameraBase() const { return {3.0, 0.35, 1.45}; }
+    Eigen::Vector3d cameraTarget() const { return {3.0, 3.4, 0.85}; }
+
+private:
+    int addTexture(const cv::Mat& t);
+    SceneObject& addObject(const std::string& name, uint8_t classId, int texture);
+
+    std::vector<cv::Mat> textures_;
+    std::vector<SceneObject> objects_;
+    std::vector<Person> people_;
+    std::map<uint16_t, uint8_t> instanceClasses_;
+    uint16_t nextInstance_ = 1;
+};
+}  // namespace smap::sim

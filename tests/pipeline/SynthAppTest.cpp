@@ -1,0 +1,61 @@
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <opencv2/imgcodecs.hpp>
+#include <sstream>
+
+#include "TestData.h"
+#include "smap/core/InputError.h"
+#include "smap/io/RawlogSource.h"
+#include "smap/io/TumTextFormats.h"
+#include "smap/pipeline/SynthApp.h"
+
+using namespace smap;
+namespace fs = std::filesystem;
+
+TEST(SynthApp, WritesTheTumLayoutWithGroundTruthAndARawlog)
+{
+    test::TempDir dir;
+    std::ostringstream out;
+    pipeline::SynthApp app;
+    app.setMinLoggingLevel(mrpt::system::LVL_WARN);
+    ASSERT_EQ(app.run({"--preset", "walking_static", "--frames", "6", "--out", dir / "seq",
+                       "--contact-sheet", "2"},
+                      out),
+              0);
+    for (const char* f : {"rgb.txt", "depth.txt", "associations.txt", "groundtruth.txt",
+                          "meta.json", "contact_sheet.png", "rgb/000005.png", "depth/000005.png",
+                          "labels/000005.png", "instances/000005.png", "dynamic/000005.png",
+                          "sequence.rawlog", "sequence_groundtruth.txt"})
+        EXPECT_TRUE(fs::exists(dir / ("seq/" + std::string(f)))) << f;
+    EXPECT_EQ(io::readTumTrajectory(dir / "seq/groundtruth.txt").size(), 6u);
+    EXPECT_EQ(std::distance(fs::directory_iterator(dir / "seq/objects"), fs::directory_iterator()),
+              2);  // two walkers
+    const std::string meta = test::readTextFile(dir / "seq/meta.json");
+    EXPECT_NE(meta.find("\"preset\": \"walking_static\""), std::string::npos) << meta;
+    EXPECT_NE(meta.find("\"depth_factor\": 5000"), std::string::npos) << meta;
+
+    // The rawlog holds the same images as the folder.
+    io::RawlogSource rawlog(dir / "seq/sequence.rawlog", {});
+    size_t n = 0;
+    while (auto f = rawlog.next())
+    {
+        const cv::Mat rgb = cv::imread(dir / ("seq/rgb/" + f->name + ".png"));
+        EXPECT_EQ(cv::norm(rgb, f->colour, cv::NORM_INF), 0.0);
+        EXPECT_EQ(f->camera.fx, 525.0);
+        n++;
+    }
+    EXPECT_EQ(n, 6u);
+}
+
+TEST(SynthApp, RejectsBadArguments)
+{
+    test::TempDir dir;
+    std::ostringstream out;
+    pipeline::SynthApp app;
+    EXPECT_THROW(app.run({"--preset", "nope", "--out", dir / "x"}, out), core::InputError);
+    EXPECT_THROW(app.run({"--out", dir / "x"}, out), core::InputError);
+    EXPECT_THROW(app.run({"--preset", "walking_xyz", "--out", dir / "x", "--frames", "0"}, out),
+                 core::InputError);
+    EXPECT_FALSE(fs::exists(dir / "x"));
+}
