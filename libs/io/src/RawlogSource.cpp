@@ -110,7 +110,9 @@ bool RawlogSource::Impl::fill(COutputLogger& log)
         catch (const std::exception& e)
         {
             // MRPT reports a clean end of file as a plain exception mentioning EOF.
-            if (stream.checkEOF() && std::string(e.what()).find("EOF") != std::string::npos &&
+            // MRPT 2.5 reports a clean end of file as a plain exception: accept it only when
+            // the stream really is at its end, so a truncated entry stays an error.
+            if (stream.checkEOF() &&
                 std::string(e.what()).find("Cannot read object due to EOF") != std::string::npos)
                 return false;
             throw core::InputError(

@@ -33,15 +33,25 @@ TumSource::TumSource(const std::string& folder, const FrameSourceParameters& par
     if (params.tum_use_associations && fs::exists(assocPath))
     {
         entries_ = readTumAssociations(assocPath.string());
+        // Pairs further apart than max_dt: one warning with the count and the first line.
+        size_t apart = 0;
+        const TumAssociationEntry* first = nullptr;
         for (const auto& e : entries_)
         {
             if (std::abs(e.rgbTimestamp - e.depthTimestamp) >= params.tum_max_dt)
             {
-                MRPT_LOG_WARN_FMT(
-                    "%s:%zu: rgb and depth timestamps differ by %.4f s (> max_dt %.4f)",
-                    assocPath.c_str(), e.line, std::abs(e.rgbTimestamp - e.depthTimestamp),
-                    params.tum_max_dt);
+                apart++;
+                if (first == nullptr)
+                    first = &e;
             }
+        }
+        if (first != nullptr)
+        {
+            MRPT_LOG_WARN_FMT(
+                "%s: %zu pair(s) with rgb and depth timestamps further apart than max_dt %.4f s "
+                "(first at line %zu: %.4f s)",
+                assocPath.c_str(), apart, params.tum_max_dt, first->line,
+                std::abs(first->rgbTimestamp - first->depthTimestamp));
         }
     }
     else
