@@ -62,3 +62,26 @@ TEST(AtomicFile, ThrowingWriterKeepsOldFile)
     EXPECT_THROW(smap::core::writeFileAtomically(dir / "none.txt", [](const std::string&) {}),
                  std::runtime_error);
 }
+
+TEST(AtomicFile, DirectoryReplacedOnlyWhenTheWriterSucceeds)
+{
+    smap::test::TempDir dir;
+    const std::string target = dir / "seq";
+    fs::create_directories(target);
+    std::ofstream(target + "/old.txt") << "old";
+    EXPECT_THROW(smap::core::writeDirectoryAtomically(target,
+                                                      [](const std::string& tmp)
+                                                      {
+                                                          std::ofstream(tmp + "/half.txt") << "x";
+                                                          throw std::runtime_error("disk full");
+                                                      }),
+                 std::runtime_error);
+    EXPECT_TRUE(fs::exists(target + "/old.txt"));
+    EXPECT_EQ(countFiles(dir.str()), 1u);  // no temporary folder left
+
+    smap::core::writeDirectoryAtomically(
+        target, [](const std::string& tmp) { std::ofstream(tmp + "/new.txt") << "new"; });
+    EXPECT_FALSE(fs::exists(target + "/old.txt"));
+    EXPECT_EQ(smap::test::readTextFile(target + "/new.txt"), "new");
+    EXPECT_EQ(countFiles(dir.str()), 1u);
+}

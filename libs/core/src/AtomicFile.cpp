@@ -37,6 +37,28 @@ void writeFileAtomically(const std::string& path,
     }
 }
 
+void writeDirectoryAtomically(const std::string& dir,
+                              const std::function<void(const std::string&)>& writer)
+{
+    const fs::path target = fs::path(dir).lexically_normal();
+    const fs::path tmp = target.parent_path() /
+                         ("." + target.filename().string() + ".tmp-" + std::to_string(::getpid()));
+    fs::remove_all(tmp);
+    fs::create_directories(tmp);
+    try
+    {
+        writer(tmp.string());
+        fs::remove_all(target);
+        fs::rename(tmp, target);
+    }
+    catch (...)
+    {
+        std::error_code ec;
+        fs::remove_all(tmp, ec);
+        throw;
+    }
+}
+
 AtomicTextFile::AtomicTextFile(std::string path)
     : path_(std::move(path)), tmpPath_(temporarySiblingPath(path_))
 {

@@ -6,7 +6,6 @@
 #include <mrpt/obs/CObservation3DRangeScan.h>
 #include <mrpt/serialization/CArchive.h>
 #include <mrpt/system/CTicTac.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -34,10 +33,6 @@ TumToRawlogConverter::Result TumToRawlogConverter::convert(TumSource& source, do
     if (!fs::is_directory(parent))
         throw core::InputError(mrpt::format("output folder '%s' does not exist", parent.c_str()));
     const fs::path imagesDir = parent / (out.stem().string() + "_Images");
-    const fs::path tmpImagesDir =
-        parent / ("." + out.stem().string() + "_Images.tmp-" + std::to_string(::getpid()));
-    fs::remove_all(tmpImagesDir);
-    fs::create_directories(tmpImagesDir);
 
     const auto& entries = source.entries();
     const size_t n = maxFrames == 0 ? entries.size() : std::min(maxFrames, entries.size());
@@ -47,83 +42,79 @@ TumToRawlogConverter::Result TumToRawlogConverter::convert(TumSource& source, do
     double lastReport = 0.0;
 
     Result result;
-    try
-    {
-        core::writeFileAtomically(
-            outRawlog,
-            [&](const std::string& tmpRawlog)
-            {
-                mrpt::io::CFileGZOutputStream fo;
-                // Compression level 0: a plain rawlog, fastest to write and read.
-                if (!fo.open(tmpRawlog, 0))
-                    throw std::runtime_error(mrpt::format("cannot create '%s'", tmpRawlog.c_str()));
-                auto arch = mrpt::serialization::archiveFrom(fo);
-                for (size_t i = 0; i < n; i++)
+    // The images folder is complete before the rawlog that references it appears.
+    core::writeFileAtomically(
+        outRawlog,
+        [&](const std::string& tmpRawlog)
+        {
+            core::writeDirectoryAtomically(
+                imagesDir.string(),
+                [&](const std::string& tmpImages)
                 {
-                    const auto& e = entries[i];
-                    const fs::path rgbRel = fs::path(e.rgbFile).lexically_normal();
-                    const fs::path rgbSrc = source.absolutePath(e.rgbFile);
-                    if (!fs::exists(rgbSrc))
-                        throw core::InputError(
-                            mrpt::format("colour image '%s' does not exist", rgbSrc.c_str()));
-                    fs::create_directories((tmpImagesDir / rgbRel).parent_path());
-                    fs::copy_file(rgbSrc, tmpImagesDir / rgbRel,
-                                  fs::copy_options::overwrite_existing);
-
-                    const cv::Mat raw = source.readRawDepth(i);
-                    auto obs = mrpt::obs::CObservation3DRangeScan::Create();
-                    obs->sensorLabel = sensorLabel_;
-                    obs->timestamp = mrpt::Clock::fromDouble(e.rgbTimestamp);
-                    obs->hasRangeImage = true;
-                    obs->range_is_depth = true;
-                    obs->rangeUnits = rangeUnits;
-                    obs->rangeImage_setSize(raw.rows, raw.cols);
-                    for (int r = 0; r < raw.rows; r++)
+                    const fs::path tmpImagesDir(tmpImages);
+                    mrpt::io::CFileGZOutputStream fo;
+                    // Compression level 0: a plain rawlog, fastest to write and read.
+                    if (!fo.open(tmpRawlog, 0))
+                        throw std::runtime_error(
+                            mrpt::format("cannot create '%s'", tmpRawlog.c_str()));
+                    auto arch = mrpt::serialization::archiveFrom(fo);
+                    for (size_t i = 0; i < n; i++)
                     {
-                        const auto* src = raw.ptr<uint16_t>(r);
-                        for (int c = 0; c < raw.cols; c++)
-                            obs->rangeImage(r, c) = src[c];
-                    }
-                    // A Kinect-like device maximum (viewers scale depth by it), raised when the
-                    // frame holds farther data so that nothing lies beyond maxRange.
-                    double maxRaw = 0.0;
-                    cv::minMaxLoc(raw, nullptr, &maxRaw);
-                    obs->maxRange = std::max(10.0f, static_cast<float>(maxRaw) * rangeUnits);
-                    const fs::path depthRel =
-                        fs::path(e.depthFile).lexically_normal().replace_extension(".bin");
-                    fs::create_directories((tmpImagesDir / depthRel).parent_path());
-                    obs->rangeImage_convertToExternalStorage(depthRel.string(),
-                                                             tmpImagesDir.string() + "/");
+                        const auto& e = entries[i];
+                        const fs::path rgbRel = fs::path(e.rgbFile).lexically_normal();
+                        const fs::path rgbSrc = source.absolutePath(e.rgbFile);
+                        if (!fs::exists(rgbSrc))
+                            throw core::InputError(
+                                mrpt::format("colour image '%s' does not exist", rgbSrc.c_str()));
+                        fs::create_directories((tmpImagesDir / rgbRel).parent_path());
+                        fs::copy_file(rgbSrc, tmpImagesDir / rgbRel,
+                                      fs::copy_options::overwrite_existing);
 
-                    obs->hasIntensityImage = true;
-                    obs->intensityImageChannel = mrpt::obs::CObservation3DRangeScan::CH_VISIBLE;
-                    obs->intensityImage.setExternalStorage(rgbRel.string());
-                    obs->cameraParams = cam.toMrpt();
-                    obs->cameraParamsIntensity = cam.toMrpt();
-                    obs->relativePoseIntensityWRTDepth = mrpt::poses::CPose3D(
-                        0, 0, 0, mrpt::DEG2RAD(-90.0), 0, mrpt::DEG2RAD(-90.0));
-                    arch << *obs;
-                    result.frames++;
+                        const cv::Mat raw = source.readRawDepth(i);
+                        auto obs = mrpt::obs::CObservation3DRangeScan::Create();
+                        obs->sensorLabel = sensorLabel_;
+                        obs->timestamp = mrpt::Clock::fromDouble(e.rgbTimestamp);
+                        obs->hasRangeImage = true;
+                        obs->range_is_depth = true;
+                        obs->rangeUnits = rangeUnits;
+                        obs->rangeImage_setSize(raw.rows, raw.cols);
+                        for (int r = 0; r < raw.rows; r++)
+                        {
+                            const auto* src = raw.ptr<uint16_t>(r);
+                            for (int c = 0; c < raw.cols; c++)
+                                obs->rangeImage(r, c) = src[c];
+                        }
+                        // A Kinect-like device maximum (viewers scale depth by it), raised when the
+                        // frame holds farther data so that nothing lies beyond maxRange.
+                        double maxRaw = 0.0;
+                        cv::minMaxLoc(raw, nullptr, &maxRaw);
+                        obs->maxRange = std::max(10.0f, static_cast<float>(maxRaw) * rangeUnits);
+                        const fs::path depthRel =
+                            fs::path(e.depthFile).lexically_normal().replace_extension(".bin");
+                        fs::create_directories((tmpImagesDir / depthRel).parent_path());
+                        obs->rangeImage_convertToExternalStorage(depthRel.string(),
+                                                                 tmpImagesDir.string() + "/");
 
-                    if (timer.Tac() - lastReport > 2.0)
-                    {
-                        lastReport = timer.Tac();
-                        MRPT_LOG_INFO_FMT("converted %zu / %zu frames (%.1f frames/s)", i + 1, n,
-                                          (i + 1) / lastReport);
+                        obs->hasIntensityImage = true;
+                        obs->intensityImageChannel = mrpt::obs::CObservation3DRangeScan::CH_VISIBLE;
+                        obs->intensityImage.setExternalStorage(rgbRel.string());
+                        obs->cameraParams = cam.toMrpt();
+                        obs->cameraParamsIntensity = cam.toMrpt();
+                        obs->relativePoseIntensityWRTDepth = mrpt::poses::CPose3D(
+                            0, 0, 0, mrpt::DEG2RAD(-90.0), 0, mrpt::DEG2RAD(-90.0));
+                        arch << *obs;
+                        result.frames++;
+
+                        if (timer.Tac() - lastReport > 2.0)
+                        {
+                            lastReport = timer.Tac();
+                            MRPT_LOG_INFO_FMT("converted %zu / %zu frames (%.1f frames/s)", i + 1,
+                                              n, (i + 1) / lastReport);
+                        }
                     }
-                }
-                fo.close();
-                // Images first: when the rawlog appears, everything it references exists.
-                fs::remove_all(imagesDir);
-                fs::rename(tmpImagesDir, imagesDir);
-            });
-    }
-    catch (...)
-    {
-        std::error_code ec;
-        fs::remove_all(tmpImagesDir, ec);
-        throw;
-    }
+                    fo.close();
+                });
+        });
     result.rawlogPath = outRawlog;
     result.imagesDirectory = imagesDir.string();
     if (const std::string gt = source.groundTruthPath(); !gt.empty())

@@ -2,7 +2,6 @@
 
 #include <mrpt/core/format.h>
 #include <mrpt/system/CTicTac.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -52,103 +51,95 @@ void SyntheticSequenceWriter::write(sim::SequenceGenerator& gen, size_t frames,
     if (!fs::is_directory(parent))
         throw core::InputError(
             mrpt::format("output folder's parent '%s' does not exist", parent.c_str()));
-    const fs::path tmp =
-        parent / ("." + out.filename().string() + ".tmp-" + std::to_string(::getpid()));
-    fs::remove_all(tmp);
-    try
-    {
-        for (const char* d : {"rgb", "depth", "labels", "instances", "dynamic", "objects"})
-            fs::create_directories(tmp / d);
-        std::ofstream rgbList(tmp / "rgb.txt"), depthList(tmp / "depth.txt"),
-            assoc(tmp / "associations.txt");
-        rgbList << "# colour images\n# timestamp filename\n";
-        depthList
-            << "# depth maps, 16-bit PNG, depth factor 5000 (0 = invalid)\n# timestamp filename\n";
-        core::Trajectory gt;
-        std::map<std::string, core::Trajectory> objects;
-        mrpt::system::CTicTac timer;
-        double lastReport = 0.0;
-        for (size_t i = 0; i < frames; i++)
+    core::writeDirectoryAtomically(
+        out.string(),
+        [&](const std::string& tmpDir)
         {
-            const sim::SyntheticFrame f = gen.frame(i);
-            const std::string name = mrpt::format("%06zu.png", i);
-            writePng(tmp / "rgb" / name, f.rendered.colour);
-            cv::Mat depth16;
-            f.rendered.depth.convertTo(depth16, CV_16UC1, kDepthFactor);
-            writePng(tmp / "depth" / name, depth16);
-            writePng(tmp / "labels" / name, f.rendered.labels);
-            writePng(tmp / "instances" / name, f.rendered.instances);
-            writePng(tmp / "dynamic" / name, f.rendered.dynamic);
-            const std::string ts = mrpt::format("%.6f", f.timestamp);
-            rgbList << ts << " rgb/" << name << "\n";
-            depthList << ts << " depth/" << name << "\n";
-            assoc << ts << " rgb/" << name << " " << ts << " depth/" << name << "\n";
-            gt.push_back({f.timestamp, f.T_world_cam});
-            for (const auto& [obj, pose] : f.objectPoses)
-                objects[obj].push_back({f.timestamp, pose});
-            if (timer.Tac() - lastReport > 2.0)
+            const fs::path tmp(tmpDir);
+            for (const char* d : {"rgb", "depth", "labels", "instances", "dynamic", "objects"})
+                fs::create_directories(tmp / d);
+            std::ofstream rgbList(tmp / "rgb.txt"), depthList(tmp / "depth.txt"),
+                assoc(tmp / "associations.txt");
+            rgbList << "# colour images\n# timestamp filename\n";
+            depthList << "# depth maps, 16-bit PNG, depth factor 5000 (0 = invalid)\n# timestamp "
+                         "filename\n";
+            core::Trajectory gt;
+            std::map<std::string, core::Trajectory> objects;
+            mrpt::system::CTicTac timer;
+            double lastReport = 0.0;
+            for (size_t i = 0; i < frames; i++)
             {
-                lastReport = timer.Tac();
-                MRPT_LOG_INFO_FMT("frame %zu / %zu (%.1f frames/s)", i + 1, frames,
-                                  (i + 1) / lastReport);
+                const sim::SyntheticFrame f = gen.frame(i);
+                const std::string name = mrpt::format("%06zu.png", i);
+                writePng(tmp / "rgb" / name, f.rendered.colour);
+                cv::Mat depth16;
+                f.rendered.depth.convertTo(depth16, CV_16UC1, kDepthFactor);
+                writePng(tmp / "depth" / name, depth16);
+                writePng(tmp / "labels" / name, f.rendered.labels);
+                writePng(tmp / "instances" / name, f.rendered.instances);
+                writePng(tmp / "dynamic" / name, f.rendered.dynamic);
+                const std::string ts = mrpt::format("%.6f", f.timestamp);
+                rgbList << ts << " rgb/" << name << "\n";
+                depthList << ts << " depth/" << name << "\n";
+                assoc << ts << " rgb/" << name << " " << ts << " depth/" << name << "\n";
+                gt.push_back({f.timestamp, f.T_world_cam});
+                for (const auto& [obj, pose] : f.objectPoses)
+                    objects[obj].push_back({f.timestamp, pose});
+                if (timer.Tac() - lastReport > 2.0)
+                {
+                    lastReport = timer.Tac();
+                    MRPT_LOG_INFO_FMT("frame %zu / %zu (%.1f frames/s)", i + 1, frames,
+                                      (i + 1) / lastReport);
+                }
             }
-        }
-        for (auto* s : {&rgbList, &depthList, &assoc})
-        {
-            s->close();
-            if (s->fail())
-                throw std::runtime_error("cannot write the frame lists in " + tmp.string());
-        }
-        io::writeTumTrajectory((tmp / "groundtruth.txt").string(), gt,
-                               "ground truth T_world_cam (optical frame), world z up");
-        for (const auto& [obj, traj] : objects)
-            io::writeTumTrajectory((tmp / "objects" / (obj + ".txt")).string(), traj,
-                                   obj + " root pose (on the floor, x forward, z up)");
+            for (auto* s : {&rgbList, &depthList, &assoc})
+            {
+                s->close();
+                if (s->fail())
+                    throw std::runtime_error("cannot write the frame lists in " + tmp.string());
+            }
+            io::writeTumTrajectory((tmp / "groundtruth.txt").string(), gt,
+                                   "ground truth T_world_cam (optical frame), world z up");
+            for (const auto& [obj, traj] : objects)
+                io::writeTumTrajectory((tmp / "objects" / (obj + ".txt")).string(), traj,
+                                       obj + " root pose (on the floor, x forward, z up)");
 
-        const auto& o = gen.options();
-        auto cam = core::JsonValue::object();
-        cam.set("width", o.camera.width)
-            .set("height", o.camera.height)
-            .set("fx", o.camera.fx)
-            .set("fy", o.camera.fy);
-        cam.set("cx", o.camera.cx).set("cy", o.camera.cy);
-        auto instances = core::JsonValue::array();
-        for (const auto& [id, cls] : gen.scene().instanceClasses())
-        {
-            auto e = core::JsonValue::object();
-            e.set("instance", static_cast<int>(id)).set("class", static_cast<int>(cls));
-            instances.push(e);
-        }
-        auto meta = core::JsonValue::object();
-        meta.set("generator", "smap-synth")
-            .set("preset", gen.preset().name)
-            .set("seed", static_cast<int64_t>(o.seed));
-        meta.set("frames", static_cast<uint64_t>(frames)).set("fps", o.fps);
-        meta.set("camera_motion", sim::toString(gen.preset().motion));
-        meta.set("walking_people", gen.preset().walking)
-            .set("sitting_people", gen.preset().sitting);
-        meta.set("camera", cam)
-            .set("depth_factor", kDepthFactor)
-            .set("noise_free_depth", o.noiseFreeDepth);
-        meta.set("labels",
-                 "PASCAL VOC ids: 0 background, 9 chair, 11 diningtable, 15 person, 16 "
-                 "pottedplant, 18 sofa, 20 tvmonitor");
-        meta.set("world_frame", "z up, floor at z = 0, metres");
-        meta.set("instances", instances);
-        {
-            core::AtomicTextFile f((tmp / "meta.json").string());
-            f.stream() << meta.dump();
-            f.commit();
-        }
-        fs::remove_all(out);
-        fs::rename(tmp, out);
-    }
-    catch (...)
-    {
-        std::error_code ec;
-        fs::remove_all(tmp, ec);
-        throw;
-    }
+            const auto& o = gen.options();
+            auto cam = core::JsonValue::object();
+            cam.set("width", o.camera.width)
+                .set("height", o.camera.height)
+                .set("fx", o.camera.fx)
+                .set("fy", o.camera.fy);
+            cam.set("cx", o.camera.cx).set("cy", o.camera.cy);
+            auto instances = core::JsonValue::array();
+            for (const auto& [id, cls] : gen.scene().instanceClasses())
+            {
+                auto e = core::JsonValue::object();
+                e.set("instance", static_cast<int>(id)).set("class", static_cast<int>(cls));
+                instances.push(e);
+            }
+            auto meta = core::JsonValue::object();
+            meta.set("generator", "smap-synth")
+                .set("preset", gen.preset().name)
+                .set("seed", static_cast<int64_t>(o.seed));
+            meta.set("frames", static_cast<uint64_t>(frames)).set("fps", o.fps);
+            meta.set("camera_motion", sim::toString(gen.preset().motion));
+            meta.set("walking_people", gen.preset().walking)
+                .set("sitting_people", gen.preset().sitting);
+            meta.set("camera", cam)
+                .set("depth_factor", kDepthFactor)
+                .set("noise_free_depth", o.noiseFreeDepth);
+            meta.set("labels",
+                     "PASCAL VOC ids: 0 background, 9 chair, 11 diningtable, 15 person, 16 "
+                     "pottedplant, 18 sofa, 20 tvmonitor");
+            meta.set("world_frame", "z up, floor at z = 0, metres");
+            meta.set("instances", instances);
+            {
+                core::AtomicTextFile f((tmp / "meta.json").string());
+                f.stream() << meta.dump();
+                f.commit();
+            }
+        });
 }
 
 void writeContactSheet(const std::string& sequenceFolder, size_t count, const std::string& pngPath)

@@ -79,6 +79,8 @@ struct SyntheticRenderer::Impl
     // People parts in both scenes, in scene.people() order then parts() order.
     std::vector<mrpt::opengl::CRenderizable::Ptr> colourParts, labelParts;
     std::unique_ptr<mrpt::opengl::CFBORender> fbo;
+    /// Index (into colourParts) of the first part of each person, by instance id.
+    std::map<uint16_t, size_t> firstPart;
 
     Impl(const SyntheticScene& s, const core::PinholeCamera& cam, double clipNear, double far)
         : scene(s), camera(cam), clipFar(far)
@@ -111,6 +113,7 @@ struct SyntheticRenderer::Impl
             addObject(o, -1);
         for (const auto& p : s.people())
         {
+            firstPart[p.instanceId()] = colourParts.size();
             for (size_t i = 0; i < p.parts().size(); i++)
             {
                 auto [c, l] = addObject(p.parts()[i], static_cast<int>(i));
@@ -184,14 +187,6 @@ RenderedFrame SyntheticRenderer::render(double t, const mrpt::poses::CPose3D& T_
     f.labels.create(lab.size(), CV_8UC1);
     f.instances.create(lab.size(), CV_16UC1);
     f.dynamic = cv::Mat::zeros(lab.size(), CV_8UC1);
-    // Index of the first part of each person instance, to find parts from (instance, part).
-    std::map<uint16_t, size_t> firstPart;
-    size_t idx = 0;
-    for (const auto& p : I.scene.people())
-    {
-        firstPart[p.instanceId()] = idx;
-        idx += p.parts().size();
-    }
     for (int v = 0; v < lab.rows; v++)
     {
         for (int u = 0; u < lab.cols; u++)
@@ -201,8 +196,8 @@ RenderedFrame SyntheticRenderer::render(double t, const mrpt::poses::CPose3D& T_
             f.instances.at<uint16_t>(v, u) = c[1];
             if (c[0] > 0)
             {
-                const auto it = firstPart.find(c[1]);
-                if (it != firstPart.end() && partMoving.at(it->second + c[0] - 1))
+                const auto it = I.firstPart.find(c[1]);
+                if (it != I.firstPart.end() && partMoving.at(it->second + c[0] - 1))
                     f.dynamic.at<uint8_t>(v, u) = 255;
             }
         }

@@ -17,6 +17,12 @@ std::string temporarySiblingPath(const std::string& path);
 void writeFileAtomically(const std::string& path,
                          const std::function<void(const std::string&)>& writer);
 
+/// The same for a folder: `writer(tmpDir)` fills a fresh temporary sibling folder, which then
+/// replaces `dir` (an existing folder of that name is removed). On failure the temporary folder
+/// is removed, `dir` is untouched, and the error propagates.
+void writeDirectoryAtomically(const std::string& dir,
+                              const std::function<void(const std::string&)>& writer);
+
 /// A text output stream that becomes `path` on commit(); dropped without commit, it leaves
 /// nothing behind.
 class AtomicTextFile
