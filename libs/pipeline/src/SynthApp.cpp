@@ -3,12 +3,17 @@
 #include <mrpt/core/format.h>
 
 #include <filesystem>
+#include <optional>
 
 #include "smap/core/InputError.h"
+#include "smap/core/TimestampAssociation.h"
 #include "smap/io/TumSource.h"
+#include "smap/io/TumTextFormats.h"
 #include "smap/io/TumToRawlogConverter.h"
+#include "smap/pipeline/AppConfiguration.h"
 #include "smap/pipeline/CommandLine.h"
 #include "smap/pipeline/SyntheticSequenceWriter.h"
+#include "smap/sim/PeopleCompositor.h"
 
 namespace fs = std::filesystem;
 
@@ -23,6 +28,8 @@ std::string SynthApp::usage()
         presets += (presets.empty() ? "" : ", ") + p.name;
     return "Usage: smap-synth --preset NAME --out DIR [--frames N] [--seed S] [--noise-free]\n"
            "                  [--no-rawlog] [--contact-sheet ROWS]\n"
+           "       smap-synth --composite-onto TUM_DIR --people CUTOUT_DIR --out DIR [--config F]\n"
+           "                  [--set S.K=V]... [--people-count N] [--frames N] [--seed S] ...\n"
            "\n"
            "Renders a synthetic office with moving people (headless) and writes DIR in TUM RGB-D\n"
            "layout with ground truth: rgb/ depth/ labels/ instances/ dynamic/ objects/,\n"
@@ -39,10 +46,118 @@ std::string SynthApp::usage()
            "Exit codes: 0 ok, 1 internal error, 2 bad input.\n";
 }
 
+namespace
+{
+/// Composites people into a real TUM folder with ground truth; returns its camera.
+core::PinholeCamera compositeOnto(const CommandLine& cl, size_t frames, uint32_t seed,
+                                  const std::string& outDir, mrpt::system::COutputLogger& log)
+{
+    const std::string folder = *cl.value("composite-onto");
+    const auto peopleDir = cl.value("people");
+    if (!peopleDir)
+        throw core::InputError(
+            "--composite-onto needs --people CUTOUT_DIR (e.g. ../shared/data/people)");
+    const long count = cl.integer("people-count", 2);
+    if (count < 1 || count > 8)
+        throw core::InputError("--people-count must be 1 .. 8");
+    io::FrameSourceParameters params;
+    loadAppConfiguration(cl, {&params});
+
+    io::TumSource source(folder, params);
+    source.setMinLoggingLevel(log.getMinLoggingLevel());
+    if (source.groundTruthPath().empty())
+        throw core::InputError(mrpt::format(
+            "'%s' has no groundtruth.txt: compositing needs the camera poses", folder.c_str()));
+    const core::Trajectory gt = io::readTumTrajectory(source.groundTruthPath());
+    std::vector<double> tFrames, tGt;
+    for (const auto& e : source.entries())
+        tFrames.push_back(e.rgbTimestamp);
+    for (const auto& p : gt)
+        tGt.push_back(p.timestamp);
+    const auto matches = core::associateTimestamps(tFrames, tGt, params.tum_max_dt);
+    if (matches.empty())
+        throw core::InputError(mrpt::format("no frame of '%s' has a ground-truth pose within %g s",
+                                            folder.c_str(), params.tum_max_dt));
+    frames = std::min(frames, matches.size());
+
+    // Probes: up to 8 frames with poses spread over the part used, to see the free space.
+    std::vector<sim::PeopleCompositor::Probe> probes;
+    {
+        const size_t step = std::max<size_t>(1, frames / 8);
+        size_t next = 0, entry = 0;
+        while (auto f = source.next())
+        {
+            if (next < frames && entry == matches[next].first)
+            {
+                probes.push_back({*f, gt[matches[next].second].T_world_cam});
+                next += step;
+            }
+            if (next >= frames)
+                break;
+            entry++;
+        }
+    }
+    const sim::PeopleCompositor compositor(sim::loadPeopleSprites(*peopleDir), gt, probes,
+                                           static_cast<size_t>(count), seed);
+    if (compositor.freeSpaceViolations() > 0)
+        log.logFmt(mrpt::system::LVL_WARN,
+                   "compositing: %zu body samples of the people are not known free space "
+                   "(inside an observed surface, or seen free by no frame)",
+                   compositor.freeSpaceViolations());
+    io::TumSource frameSource(folder, params);
+    frameSource.setMinLoggingLevel(mrpt::system::LVL_WARN);
+    size_t cursor = 0;  // next entry index frameSource will deliver
+    const double t0 = tFrames[matches.front().first];
+    auto produce = [&](size_t i)
+    {
+        const auto& m = matches[i];
+        std::optional<core::RgbdFrame> f;
+        while (cursor <= m.first)
+        {
+            f = frameSource.next();
+            cursor++;
+        }
+        const auto& T = gt[m.second].T_world_cam;
+        const sim::CompositeFrame c = compositor.composite(*f, T, f->timestamp - t0);
+        sim::SyntheticFrame out;
+        out.index = i;
+        out.timestamp = f->timestamp;
+        out.T_world_cam = T;
+        out.rendered = {c.colour, c.depth, c.labels, c.instances, c.dynamic};
+        out.depthNoiseFree = c.depth;
+        out.objectPoses = c.objectPoses;
+        return out;
+    };
+    auto meta = core::JsonValue::object();
+    meta.set("generator", "smap-synth").set("mode", "composite").set("source", folder);
+    meta.set("people_cutouts", *peopleDir).set("people", static_cast<int64_t>(count));
+    meta.set("seed", static_cast<int64_t>(seed)).set("frames", static_cast<uint64_t>(frames));
+    meta.set("depth_factor", SyntheticSequenceWriter::kDepthFactor);
+    meta.set("floor_height_m", compositor.floorHeight());
+    meta.set("free_space_violations", static_cast<uint64_t>(compositor.freeSpaceViolations()));
+    auto up = core::JsonValue::array();
+    for (int k = 0; k < 3; k++)
+        up.push(core::JsonValue::number(compositor.up()[k]));
+    meta.set("world_up", up);
+    meta.set("labels",
+             "15 person where composited, 255 unknown elsewhere; depth of people is exact, the "
+             "rest is the real sensor's");
+    SyntheticSequenceWriter writer;
+    writer.setMinLoggingLevel(log.getMinLoggingLevel());
+    writer.write(produce, frames, meta, outDir);
+    return source.camera();
+}
+}  // namespace
+
 int SynthApp::run(const std::vector<std::string>& args, std::ostream& out)
 {
     CommandLine cl;
     cl.option("preset").option("out").option("frames").option("seed").option("contact-sheet");
+    cl.option("composite-onto")
+        .option("people")
+        .option("people-count")
+        .option("config")
+        .option("set");
     cl.flag("noise-free").flag("no-rawlog").flag("help");
     cl.parse(args);
     if (cl.has("help"))
@@ -54,8 +169,11 @@ int SynthApp::run(const std::vector<std::string>& args, std::ostream& out)
         throw core::InputError("smap-synth takes no positional arguments (see --help)");
     const auto preset = cl.value("preset");
     const auto outDir = cl.value("out");
-    if (!preset || !outDir)
-        throw core::InputError("smap-synth needs --preset NAME and --out DIR (see --help)");
+    const bool composite = cl.has("composite-onto");
+    if (!outDir || preset.has_value() == composite)
+        throw core::InputError(
+            "smap-synth needs --out DIR and either --preset NAME or --composite-onto TUM_DIR (see "
+            "--help)");
     const long frames = cl.integer("frames", 300);
     const long seed = cl.integer("seed", 1);
     const long rows = cl.integer("contact-sheet", 6);
@@ -66,23 +184,37 @@ int SynthApp::run(const std::vector<std::string>& args, std::ostream& out)
     if (rows < 0)
         throw core::InputError("--contact-sheet must be >= 0");
 
-    sim::GeneratorOptions options;
-    options.preset = *preset;
-    options.seed = static_cast<uint32_t>(seed);
-    options.noiseFreeDepth = cl.has("noise-free");
-    sim::SequenceGenerator generator(options);
-    MRPT_LOG_INFO_FMT("rendering %ld frames of '%s' (seed %ld) into %s", frames, preset->c_str(),
-                      seed, outDir->c_str());
-
-    SyntheticSequenceWriter writer;
-    writer.setMinLoggingLevel(getMinLoggingLevel());
-    writer.write(generator, static_cast<size_t>(frames), *outDir);
-    out << "smap-synth: " << frames << " frames of " << *preset << " in " << *outDir << "\n";
+    core::PinholeCamera camera;
+    if (composite)
+    {
+        camera = compositeOnto(cl, static_cast<size_t>(frames), static_cast<uint32_t>(seed),
+                               *outDir, *this);
+        out << "smap-synth: people composited onto " << *cl.value("composite-onto") << " in "
+            << *outDir << "\n";
+    }
+    else
+    {
+        if (cl.has("config") || cl.has("set") || cl.has("people") || cl.has("people-count"))
+            throw core::InputError(
+                "--config, --set, --people and --people-count apply to --composite-onto only");
+        sim::GeneratorOptions options;
+        options.preset = *preset;
+        options.seed = static_cast<uint32_t>(seed);
+        options.noiseFreeDepth = cl.has("noise-free");
+        sim::SequenceGenerator generator(options);
+        MRPT_LOG_INFO_FMT("rendering %ld frames of '%s' (seed %ld) into %s", frames,
+                          preset->c_str(), seed, outDir->c_str());
+        SyntheticSequenceWriter writer;
+        writer.setMinLoggingLevel(getMinLoggingLevel());
+        writer.write(generator, static_cast<size_t>(frames), *outDir);
+        camera = options.camera;
+        out << "smap-synth: " << frames << " frames of " << *preset << " in " << *outDir << "\n";
+    }
 
     if (!cl.has("no-rawlog"))
     {
         io::FrameSourceParameters p;
-        p.camera = options.camera;
+        p.camera = camera;
         p.tum_depth_factor = SyntheticSequenceWriter::kDepthFactor;
         io::TumSource folder(*outDir, p);
         io::TumToRawlogConverter conv("RGBD_SYNTH");

@@ -43,8 +43,48 @@ cv::Vec3b vocColour(uint8_t label)
 
 SyntheticSequenceWriter::SyntheticSequenceWriter() : COutputLogger("SyntheticSequenceWriter") {}
 
+core::JsonValue SyntheticSequenceWriter::metaFor(const sim::SequenceGenerator& gen, size_t frames)
+{
+    const auto& o = gen.options();
+    auto cam = core::JsonValue::object();
+    cam.set("width", o.camera.width)
+        .set("height", o.camera.height)
+        .set("fx", o.camera.fx)
+        .set("fy", o.camera.fy);
+    cam.set("cx", o.camera.cx).set("cy", o.camera.cy);
+    auto instances = core::JsonValue::array();
+    for (const auto& [id, cls] : gen.scene().instanceClasses())
+    {
+        auto e = core::JsonValue::object();
+        e.set("instance", static_cast<int>(id)).set("class", static_cast<int>(cls));
+        instances.push(e);
+    }
+    auto meta = core::JsonValue::object();
+    meta.set("generator", "smap-synth")
+        .set("preset", gen.preset().name)
+        .set("seed", static_cast<int64_t>(o.seed));
+    meta.set("frames", static_cast<uint64_t>(frames)).set("fps", o.fps);
+    meta.set("camera_motion", sim::toString(gen.preset().motion));
+    meta.set("walking_people", gen.preset().walking).set("sitting_people", gen.preset().sitting);
+    meta.set("camera", cam)
+        .set("depth_factor", kDepthFactor)
+        .set("noise_free_depth", o.noiseFreeDepth);
+    meta.set("labels",
+             "PASCAL VOC ids: 0 background, 9 chair, 11 diningtable, 15 person, 16 "
+             "pottedplant, 18 sofa, 20 tvmonitor");
+    meta.set("world_frame", "z up, floor at z = 0, metres");
+    meta.set("instances", instances);
+    return meta;
+}
+
 void SyntheticSequenceWriter::write(sim::SequenceGenerator& gen, size_t frames,
                                     const std::string& folder)
+{
+    write([&](size_t i) { return gen.frame(i); }, frames, metaFor(gen, frames), folder);
+}
+
+void SyntheticSequenceWriter::write(const FrameProducer& produce, size_t frames,
+                                    const core::JsonValue& meta, const std::string& folder)
 {
     const fs::path out(folder);
     const fs::path parent = out.parent_path().empty() ? fs::path(".") : out.parent_path();
@@ -69,7 +109,7 @@ void SyntheticSequenceWriter::write(sim::SequenceGenerator& gen, size_t frames,
             double lastReport = 0.0;
             for (size_t i = 0; i < frames; i++)
             {
-                const sim::SyntheticFrame f = gen.frame(i);
+                const sim::SyntheticFrame f = produce(i);
                 const std::string name = mrpt::format("%06zu.png", i);
                 writePng(tmp / "rgb" / name, f.rendered.colour);
                 cv::Mat depth16;
@@ -99,41 +139,11 @@ void SyntheticSequenceWriter::write(sim::SequenceGenerator& gen, size_t frames,
                     throw std::runtime_error("cannot write the frame lists in " + tmp.string());
             }
             io::writeTumTrajectory((tmp / "groundtruth.txt").string(), gt,
-                                   "ground truth T_world_cam (optical frame), world z up");
+                                   "ground truth T_world_cam (optical frame)");
             for (const auto& [obj, traj] : objects)
                 io::writeTumTrajectory((tmp / "objects" / (obj + ".txt")).string(), traj,
-                                       obj + " root pose (on the floor, x forward, z up)");
+                                       obj + " root pose (feet on the floor, z up)");
 
-            const auto& o = gen.options();
-            auto cam = core::JsonValue::object();
-            cam.set("width", o.camera.width)
-                .set("height", o.camera.height)
-                .set("fx", o.camera.fx)
-                .set("fy", o.camera.fy);
-            cam.set("cx", o.camera.cx).set("cy", o.camera.cy);
-            auto instances = core::JsonValue::array();
-            for (const auto& [id, cls] : gen.scene().instanceClasses())
-            {
-                auto e = core::JsonValue::object();
-                e.set("instance", static_cast<int>(id)).set("class", static_cast<int>(cls));
-                instances.push(e);
-            }
-            auto meta = core::JsonValue::object();
-            meta.set("generator", "smap-synth")
-                .set("preset", gen.preset().name)
-                .set("seed", static_cast<int64_t>(o.seed));
-            meta.set("frames", static_cast<uint64_t>(frames)).set("fps", o.fps);
-            meta.set("camera_motion", sim::toString(gen.preset().motion));
-            meta.set("walking_people", gen.preset().walking)
-                .set("sitting_people", gen.preset().sitting);
-            meta.set("camera", cam)
-                .set("depth_factor", kDepthFactor)
-                .set("noise_free_depth", o.noiseFreeDepth);
-            meta.set("labels",
-                     "PASCAL VOC ids: 0 background, 9 chair, 11 diningtable, 15 person, 16 "
-                     "pottedplant, 18 sofa, 20 tvmonitor");
-            meta.set("world_frame", "z up, floor at z = 0, metres");
-            meta.set("instances", instances);
             {
                 core::AtomicTextFile f((tmp / "meta.json").string());
                 f.stream() << meta.dump();
@@ -168,7 +178,7 @@ void writeContactSheet(const std::string& sequenceFolder, size_t count, const st
             {
                 const cv::Vec3b c = vocColour(labels.at<uint8_t>(v, u));
                 auto& p = labelOverlay.at<cv::Vec3b>(v, u);
-                if (labels.at<uint8_t>(v, u) != 0)
+                if (labels.at<uint8_t>(v, u) != 0 && labels.at<uint8_t>(v, u) != 255)
                     for (int k = 0; k < 3; k++)
                         p[k] = static_cast<uchar>((p[k] + 2 * c[k]) / 3);
                 if (dyn.at<uint8_t>(v, u))

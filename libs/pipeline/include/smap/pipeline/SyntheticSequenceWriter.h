@@ -8,8 +8,10 @@
 
 #include <mrpt/system/COutputLogger.h>
 
+#include <functional>
 #include <string>
 
+#include "smap/core/JsonWriter.h"
 #include "smap/sim/SequenceGenerator.h"
 
 namespace smap::pipeline
@@ -21,6 +23,12 @@ public:
     /// Renders frames [0, frames) and writes them into `folder`, which appears only when
     /// complete (written under a temporary name, then renamed; an existing folder is replaced).
     void write(sim::SequenceGenerator& generator, size_t frames, const std::string& folder);
+
+    /// Frame i of any source (rendered or composited) and its meta.json content.
+    using FrameProducer = std::function<sim::SyntheticFrame(size_t)>;
+    void write(const FrameProducer& produce, size_t frames, const core::JsonValue& meta,
+               const std::string& folder);
+    static core::JsonValue metaFor(const sim::SequenceGenerator& generator, size_t frames);
 
     static constexpr double kDepthFactor = 5000.0;
 };

@@ -1,0 +1,329 @@
+#include "smap/sim/PeopleCompositor.h"
+
+#include <mrpt/core/format.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <opencv2/imgcodecs.hpp>
+#include <random>
+
+#include "smap/core/InputError.h"
+
+namespace fs = std::filesystem;
+
+namespace smap::sim
+{
+namespace
+{
+Eigen::Matrix3d rotation(const mrpt::poses::CPose3D& p)
+{
+    return p.getRotationMatrix().asEigen();
+}
+Eigen::Vector3d translation(const mrpt::poses::CPose3D& p)
+{
+    return {p.x(), p.y(), p.z()};
+}
+}  // namespace
+
+Eigen::Vector3d CompositedPerson::feetAt(double t) const
+{
+    // Back and forth (a triangle wave) along the direction, at constant speed.
+    const double period = 4.0 * halfRange / speed;
+    const double s = std::fmod(t + phase, period) / period;  // 0..1
+    const double x =
+        s < 0.5 ? -halfRange + 4.0 * halfRange * s : 3.0 * halfRange - 4.0 * halfRange * s;
+    return start + x * direction;
+}
+
+std::vector<cv::Mat> loadPeopleSprites(const std::string& folder)
+{
+    std::vector<fs::path> files;
+    if (fs::is_directory(folder))
+    {
+        for (const auto& e : fs::directory_iterator(folder))
+        {
+            const std::string n = e.path().filename().string();
+            if (n.rfind("person_", 0) == 0 && e.path().extension() == ".png")
+                files.push_back(e.path());
+        }
+    }
+    std::sort(files.begin(), files.end());
+    std::vector<cv::Mat> sprites;
+    for (const auto& f : files)
+    {
+        cv::Mat s = cv::imread(f.string(), cv::IMREAD_UNCHANGED);
+        if (s.type() == CV_8UC4)
+            sprites.push_back(s);
+    }
+    if (sprites.empty())
+        throw core::InputError(
+            mrpt::format("no RGBA person_*.png cut-outs in '%s'", folder.c_str()));
+    return sprites;
+}
+
+PeopleCompositor::PeopleCompositor(const std::vector<cv::Mat>& sprites,
+                                   const core::Trajectory& T_world_cam,
+                                   const std::vector<Probe>& probes, size_t count, uint32_t seed)
+{
+    if (sprites.empty() || T_world_cam.empty() || probes.empty())
+        throw core::InputError("compositing needs cut-outs, a ground-truth trajectory and a frame");
+    // Prior for "up": image up (-y of the optical frame) averaged over the trajectory. It is
+    // biased by the camera's mean pitch, so it only seeds the floor fit below.
+    Eigen::Vector3d prior = Eigen::Vector3d::Zero();
+    for (const auto& p : T_world_cam)
+        prior -= rotation(p.T_world_cam).col(1);
+    prior.normalize();
+
+    // World points seen by the probes, subsampled.
+    std::vector<Eigen::Vector3d> points;
+    for (const auto& pr : probes)
+    {
+        const Eigen::Matrix3d R = rotation(pr.T_world_cam);
+        const Eigen::Vector3d c = translation(pr.T_world_cam);
+        for (int v = 0; v < pr.frame.depth.rows; v += 6)
+        {
+            for (int u = 0; u < pr.frame.depth.cols; u += 6)
+            {
+                const float z = pr.frame.depth.at<float>(v, u);
+                if (z > 0)
+                    points.push_back(R * pr.frame.camera.unproject(u, v, z) + c);
+            }
+        }
+    }
+    if (points.size() < 200)
+        throw core::InputError(
+            "compositing: the frames have too little valid depth to find the floor");
+    // Floor: RANSAC plane among the lowest 30% of points (along the prior), within 35 degrees of
+    // horizontal; its normal becomes "up" and its offset the floor height.
+    std::sort(points.begin(), points.end(),
+              [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b)
+              { return prior.dot(a) < prior.dot(b); });
+    points.resize(points.size() * 3 / 10);
+    std::mt19937 rngPlane(seed ^ 0x5eedu);
+    std::uniform_int_distribution<size_t> pick(0, points.size() - 1);
+    size_t bestInliers = 0;
+    up_ = prior;
+    floorHeight_ = prior.dot(points[points.size() / 30]);
+    for (int it = 0; it < 300; it++)
+    {
+        const Eigen::Vector3d a = points[pick(rngPlane)], b = points[pick(rngPlane)],
+                              c = points[pick(rngPlane)];
+        Eigen::Vector3d n = (b - a).cross(c - a);
+        if (n.norm() < 1e-9)
+            continue;
+        n.normalize();
+        if (n.dot(prior) < 0)
+            n = -n;
+        if (n.dot(prior) < std::cos(35.0 * M_PI / 180.0))
+            continue;
+        const double d = n.dot(a);
+        size_t inliers = 0;
+        for (const auto& q : points)
+            inliers += std::abs(n.dot(q) - d) < 0.02 ? 1 : 0;
+        if (inliers > bestInliers)
+        {
+            bestInliers = inliers;
+            up_ = n;
+            floorHeight_ = d;
+        }
+    }
+    const auto& T0 = probes.front().T_world_cam;
+    const Eigen::Matrix3d R0 = rotation(T0);
+    const Eigen::Vector3d c0 = translation(T0);
+
+    // Place people in front of the first camera, walking across its view.
+    Eigen::Vector3d forward = R0.col(2);
+    forward -= up_ * up_.dot(forward);
+    forward.normalize();
+    const Eigen::Vector3d side = up_.cross(forward).normalized();
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> dist(1.2, 3.5), lateral(-1.0, 1.0), speed(0.5, 1.3),
+        height(1.6, 1.85), phase(0.0, 5.0);
+    const Eigen::Vector3d ground = c0 - up_ * (up_.dot(c0) - floorHeight_);
+
+    // Body samples (feet to head, left to right) of a walking line that are not known to be free
+    // space: inside a surface some probe sees, or seen free by no probe (hidden behind walls or
+    // furniture, or never in view).
+    auto collisions = [&](const CompositedPerson& p)
+    {
+        size_t bad = 0;
+        for (double x = -p.halfRange; x <= p.halfRange + 1e-9; x += p.halfRange / 4)
+        {
+            // From 0.35 m up: rays through lower samples meet the floor just behind them.
+            for (double h = 0.35; h < p.height; h += 0.2)
+            {
+                for (double a : {-0.2, 0.0, 0.2})
+                {
+                    const Eigen::Vector3d X =
+                        p.start + x * p.direction + h * up_ + a * up_.cross(p.direction);
+                    bool seenFree = false, inside = false;
+                    for (const auto& pr : probes)
+                    {
+                        const Eigen::Matrix3d R = rotation(pr.T_world_cam);
+                        const Eigen::Vector3d Xc =
+                            R.transpose() * (X - translation(pr.T_world_cam));
+                        if (Xc.z() < 0.3)
+                            continue;
+                        const Eigen::Vector2d uv = pr.frame.camera.project(Xc);
+                        const long u = std::lround(uv.x()), v = std::lround(uv.y());
+                        if (u < 0 || v < 0 || u >= pr.frame.camera.width ||
+                            v >= pr.frame.camera.height)
+                            continue;
+                        const float z =
+                            pr.frame.depth.at<float>(static_cast<int>(v), static_cast<int>(u));
+                        if (z <= 0)
+                            continue;
+                        if (std::abs(z - Xc.z()) < 0.2)
+                            inside = true;
+                        if (z > Xc.z() + 0.2)
+                            seenFree = true;
+                    }
+                    bad += (inside || !seenFree) ? 1 : 0;
+                }
+            }
+        }
+        return bad;
+    };
+    std::uniform_real_distribution<double> heading(-1.0, 1.0), range(0.5, 1.0);
+
+    for (size_t i = 0; i < count; i++)
+    {
+        CompositedPerson best;
+        size_t bestHits = std::numeric_limits<size_t>::max();
+        for (int attempt = 0; attempt < 200 && bestHits > 0; attempt++)
+        {
+            CompositedPerson p;
+            p.sprite = sprites[(seed + i) % sprites.size()];
+            p.height = height(rng);
+            p.start = ground + dist(rng) * forward + lateral(rng) * side;
+            // Mostly across the first view, up to +-1 rad off it.
+            const double ang = heading(rng);
+            p.direction =
+                (std::cos(ang) * side + std::sin(ang) * forward) * (i % 2 == 0 ? 1.0 : -1.0);
+            p.halfRange = range(rng);
+            p.speed = speed(rng);
+            p.phase = phase(rng);
+            p.instanceId = static_cast<uint16_t>(i + 1);
+            const size_t hits = collisions(p);
+            if (hits < bestHits)
+            {
+                bestHits = hits;
+                best = p;
+            }
+        }
+        violations_ += bestHits;
+        people_.push_back(best);
+    }
+}
+
+CompositeFrame PeopleCompositor::composite(const core::RgbdFrame& frame,
+                                           const mrpt::poses::CPose3D& T_world_cam, double t) const
+{
+    CompositeFrame out;
+    out.colour = frame.colour.clone();
+    out.depth = frame.depth.clone();
+    out.labels = cv::Mat(frame.colour.size(), CV_8UC1, cv::Scalar(kUnknownLabel));
+    out.instances = cv::Mat::zeros(frame.colour.size(), CV_16UC1);
+    out.dynamic = cv::Mat::zeros(frame.colour.size(), CV_8UC1);
+    const auto& cam = frame.camera;
+    const Eigen::Matrix3d R = rotation(T_world_cam);
+    const Eigen::Vector3d c = translation(T_world_cam);
+
+    // Nearest person first is not needed: the per-pixel depth test resolves their order.
+    for (const auto& p : people_)
+    {
+        const Eigen::Vector3d feet = p.feetAt(t);
+        Eigen::Vector3d n = c - feet;  // billboard faces the camera, stays vertical
+        n -= up_ * up_.dot(n);
+        if (n.norm() < 1e-6)
+            continue;
+        n.normalize();
+        const Eigen::Vector3d w = up_.cross(n).normalized();  // across the sprite
+        const double width = p.height * p.sprite.cols / p.sprite.rows;
+        // World pose of the person's root: x forward (towards the camera), z up.
+        Eigen::Matrix3d Rp;
+        Rp.col(0) = n;
+        Rp.col(1) = up_.cross(n);
+        Rp.col(2) = up_;
+        mrpt::math::CMatrixDouble33 Rm;
+        for (int r = 0; r < 3; r++)
+            for (int k = 0; k < 3; k++)
+                Rm(r, k) = Rp(r, k);
+        mrpt::math::CVectorFixedDouble<3> tv;
+        tv[0] = feet.x();
+        tv[1] = feet.y();
+        tv[2] = feet.z();
+        out.objectPoses.emplace_back("person" + std::to_string(p.instanceId),
+                                     mrpt::poses::CPose3D(Rm, tv));
+
+        // Image bounding box of the billboard's corners.
+        int u0 = cam.width, v0 = cam.height, u1 = -1, v1 = -1;
+        bool behind = false;
+        for (double a : {-0.5, 0.5})
+        {
+            for (double b : {0.0, 1.0})
+            {
+                const Eigen::Vector3d X =
+                    R.transpose() * (feet + a * width * w + b * p.height * up_ - c);
+                if (X.z() <= 0.05)
+                {
+                    behind = true;
+                    continue;
+                }
+                const Eigen::Vector2d uv = cam.project(X);
+                u0 = std::min(u0, static_cast<int>(std::floor(uv.x())));
+                u1 = std::max(u1, static_cast<int>(std::ceil(uv.x())));
+                v0 = std::min(v0, static_cast<int>(std::floor(uv.y())));
+                v1 = std::max(v1, static_cast<int>(std::ceil(uv.y())));
+            }
+        }
+        if (behind)
+            continue;  // skip people partly behind the camera plane
+        u0 = std::max(u0, 0);
+        v0 = std::max(v0, 0);
+        u1 = std::min(u1, cam.width - 1);
+        v1 = std::min(v1, cam.height - 1);
+        const Eigen::Vector3d nCam = R.transpose() * n;
+        const double planeD = nCam.dot(R.transpose() * (feet - c));
+        for (int v = v0; v <= v1; v++)
+        {
+            for (int u = u0; u <= u1; u++)
+            {
+                // Ray through the pixel centre with z = 1: depth of the hit is s.
+                const Eigen::Vector3d d((u - cam.cx) / cam.fx, (v - cam.cy) / cam.fy, 1.0);
+                const double denom = nCam.dot(d);
+                if (std::abs(denom) < 1e-9)
+                    continue;
+                const double s = planeD / denom;
+                if (s <= 0.05)
+                    continue;
+                const Eigen::Vector3d Xw = R * (s * d) + c - feet;
+                const double a = w.dot(Xw) / width + 0.5;
+                const double b = 1.0 - up_.dot(Xw) / p.height;
+                if (a < 0 || a >= 1 || b < 0 || b >= 1)
+                    continue;
+                const auto& px = p.sprite.at<cv::Vec4b>(static_cast<int>(b * p.sprite.rows),
+                                                        static_cast<int>(a * p.sprite.cols));
+                if (px[3] < 128)
+                    continue;
+                float& z = out.depth.at<float>(v, u);
+                const float zs = static_cast<float>(s);
+                // Real surfaces in front hide the person; holes (0) do not.
+                if (z > 0.0f && z < zs && out.instances.at<uint16_t>(v, u) == 0)
+                    continue;
+                if (out.instances.at<uint16_t>(v, u) != 0 && z < zs)
+                    continue;  // another person nearer
+                z = zs;
+                out.colour.at<cv::Vec3b>(v, u) = {px[0], px[1], px[2]};
+                out.labels.at<uint8_t>(v, u) = 15;
+                out.instances.at<uint16_t>(v, u) = p.instanceId;
+                out.dynamic.at<uint8_t>(v, u) = 255;
+            }
+        }
+    }
+    return out;
+}
+}  // namespace smap::sim
