@@ -1,4 +1,5 @@
 #include <gtest/gtest.h>
+#include <mrpt/core/format.h>
 
 #include <filesystem>
 #include <opencv2/imgcodecs.hpp>
@@ -58,4 +59,44 @@ TEST(SynthApp, RejectsBadArguments)
     EXPECT_THROW(app.run({"--preset", "walking_xyz", "--out", dir / "x", "--frames", "0"}, out),
                  core::InputError);
     EXPECT_FALSE(fs::exists(dir / "x"));
+}
+
+TEST(SynthApp, CompositesPeopleIntoTheRealKitchen)
+{
+    SMAP_REQUIRE_DATA(test::sevenScenesDir());
+    SMAP_REQUIRE_DATA(test::sharedDir() + "/data/people");
+    test::TempDir dir;
+    std::ostringstream out;
+    pipeline::SynthApp app;
+    app.setMinLoggingLevel(mrpt::system::LVL_ERROR);
+    ASSERT_EQ(app.run({"--composite-onto", test::sevenScenesDir(), "--people",
+                       test::sharedDir() + "/data/people", "--config",
+                       test::sourceDir() + "/config/7scenes.ini", "--frames", "20", "--out",
+                       dir / "comp", "--no-rawlog", "--contact-sheet", "0"},
+                      out),
+              0);
+    EXPECT_NE(test::readTextFile(dir / "comp/meta.json").find("\"mode\": \"composite\""),
+              std::string::npos);
+    EXPECT_EQ(io::readTumTrajectory(dir / "comp/groundtruth.txt").size(), 20u);
+    size_t framesWithPeople = 0, unchanged = 0, compared = 0;
+    for (int i = 0; i < 20; i++)
+    {
+        const std::string n = mrpt::format("%06d.png", i);
+        const cv::Mat labels = cv::imread(dir / ("comp/labels/" + n), cv::IMREAD_UNCHANGED);
+        const cv::Mat depth = cv::imread(dir / ("comp/depth/" + n), cv::IMREAD_UNCHANGED);
+        const cv::Mat source =
+            cv::imread(test::sevenScenesDir() + mrpt::format("/depth/frame-%06d.png", i),
+                       cv::IMREAD_UNCHANGED);
+        framesWithPeople += cv::countNonZero(labels == 15) > 0;
+        // Away from people the real depth is kept exactly (mm -> factor 5000 is exact).
+        for (int v = 0; v < depth.rows; v += 7)
+            for (int u = 0; u < depth.cols; u += 7)
+                if (labels.at<uint8_t>(v, u) == 255)
+                {
+                    compared++;
+                    unchanged += depth.at<uint16_t>(v, u) == source.at<uint16_t>(v, u) * 5;
+                }
+    }
+    EXPECT_GT(framesWithPeople, 10u);
+    EXPECT_EQ(unchanged, compared);
 }

@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <optional>
+#include <sstream>
 
 #include "smap/core/InputError.h"
 #include "smap/core/TimestampAssociation.h"
@@ -41,6 +42,11 @@ std::string SynthApp::usage()
            "  --frames N    number of frames at 30 Hz (default 300)\n"
            "  --seed S      scene, motion and noise seed (default 1); same seed, same output\n"
            "  --noise-free  perfect depth instead of the Kinect-like noise model\n"
+           "  --size WxH    image size (default 640x480; the field of view stays the same)\n"
+           "  --jpeg-quality Q  colour as JPEG of quality Q instead of PNG (smaller samples)\n"
+           "  --composite-onto TUM_DIR  instead of rendering, walk people cut-outs (--people DIR,\n"
+           "                --people-count N, default 2) through a real TUM folder with\n"
+           "                groundtruth.txt; --config/--set give its camera and depth factor\n"
            "Camera: 640x480, fx = fy = 525, c = (319.5, 239.5); use config/synthetic.ini to read "
            "it.\n"
            "Exit codes: 0 ok, 1 internal error, 2 bad input.\n";
@@ -158,6 +164,7 @@ int SynthApp::run(const std::vector<std::string>& args, std::ostream& out)
         .option("people-count")
         .option("config")
         .option("set");
+    cl.option("size").option("jpeg-quality");
     cl.flag("noise-free").flag("no-rawlog").flag("help");
     cl.parse(args);
     if (cl.has("help"))
@@ -183,10 +190,15 @@ int SynthApp::run(const std::vector<std::string>& args, std::ostream& out)
         throw core::InputError(mrpt::format("--seed %ld must be in 0 .. 2^32-1", seed));
     if (rows < 0)
         throw core::InputError("--contact-sheet must be >= 0");
+    const long jpeg = cl.integer("jpeg-quality", 0);
+    if (jpeg < 0 || jpeg > 100)
+        throw core::InputError("--jpeg-quality must be 1 .. 100 (0 = PNG)");
 
     core::PinholeCamera camera;
     if (composite)
     {
+        if (cl.has("size") || cl.has("preset") || cl.has("noise-free"))
+            throw core::InputError("--size and --noise-free apply to rendered presets only");
         camera = compositeOnto(cl, static_cast<size_t>(frames), static_cast<uint32_t>(seed),
                                *outDir, *this);
         out << "smap-synth: people composited onto " << *cl.value("composite-onto") << " in "
@@ -198,6 +210,21 @@ int SynthApp::run(const std::vector<std::string>& args, std::ostream& out)
             throw core::InputError(
                 "--config, --set, --people and --people-count apply to --composite-onto only");
         sim::GeneratorOptions options;
+        if (const auto size = cl.value("size"))
+        {
+            int w = 0, h = 0;
+            char x = 0;
+            std::istringstream ss(*size);
+            if (!(ss >> w >> x >> h) || x != 'x' || w < 16 || h < 16 || w > 4096 || h > 4096)
+                throw core::InputError(
+                    mrpt::format("--size '%s': expected WxH, e.g. 320x240", size->c_str()));
+            // Same field of view as the 640x480 default.
+            options.camera.fx = options.camera.fy = 525.0 * w / 640.0;
+            options.camera.cx = (w - 1) / 2.0;
+            options.camera.cy = (h - 1) / 2.0;
+            options.camera.width = w;
+            options.camera.height = h;
+        }
         options.preset = *preset;
         options.seed = static_cast<uint32_t>(seed);
         options.noiseFreeDepth = cl.has("noise-free");
@@ -206,6 +233,7 @@ int SynthApp::run(const std::vector<std::string>& args, std::ostream& out)
                           preset->c_str(), seed, outDir->c_str());
         SyntheticSequenceWriter writer;
         writer.setMinLoggingLevel(getMinLoggingLevel());
+        writer.setColourJpegQuality(static_cast<int>(jpeg));
         writer.write(generator, static_cast<size_t>(frames), *outDir);
         camera = options.camera;
         out << "smap-synth: " << frames << " frames of " << *preset << " in " << *outDir << "\n";

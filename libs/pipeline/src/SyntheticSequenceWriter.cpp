@@ -111,7 +111,11 @@ void SyntheticSequenceWriter::write(const FrameProducer& produce, size_t frames,
             {
                 const sim::SyntheticFrame f = produce(i);
                 const std::string name = mrpt::format("%06zu.png", i);
-                writePng(tmp / "rgb" / name, f.rendered.colour);
+                const std::string colourName =
+                    mrpt::format(jpegQuality_ > 0 ? "%06zu.jpg" : "%06zu.png", i);
+                if (!cv::imwrite((tmp / "rgb" / colourName).string(), f.rendered.colour,
+                                 {cv::IMWRITE_JPEG_QUALITY, jpegQuality_ > 0 ? jpegQuality_ : 95}))
+                    throw std::runtime_error("cannot write " + (tmp / "rgb" / colourName).string());
                 cv::Mat depth16;
                 f.rendered.depth.convertTo(depth16, CV_16UC1, kDepthFactor);
                 writePng(tmp / "depth" / name, depth16);
@@ -119,9 +123,9 @@ void SyntheticSequenceWriter::write(const FrameProducer& produce, size_t frames,
                 writePng(tmp / "instances" / name, f.rendered.instances);
                 writePng(tmp / "dynamic" / name, f.rendered.dynamic);
                 const std::string ts = mrpt::format("%.6f", f.timestamp);
-                rgbList << ts << " rgb/" << name << "\n";
+                rgbList << ts << " rgb/" << colourName << "\n";
                 depthList << ts << " depth/" << name << "\n";
-                assoc << ts << " rgb/" << name << " " << ts << " depth/" << name << "\n";
+                assoc << ts << " rgb/" << colourName << " " << ts << " depth/" << name << "\n";
                 gt.push_back({f.timestamp, f.T_world_cam});
                 for (const auto& [obj, pose] : f.objectPoses)
                     objects[obj].push_back({f.timestamp, pose});
@@ -168,9 +172,10 @@ void writeContactSheet(const std::string& sequenceFolder, size_t count, const st
     {
         const fs::path name = frames[r * (frames.size() - 1) / std::max<size_t>(1, count - 1)];
         const cv::Mat rgb = cv::imread((dir / "rgb" / name).string());
-        const cv::Mat labels = cv::imread((dir / "labels" / name).string(), cv::IMREAD_UNCHANGED);
-        const cv::Mat dyn = cv::imread((dir / "dynamic" / name).string(), cv::IMREAD_UNCHANGED);
-        const cv::Mat depth = cv::imread((dir / "depth" / name).string(), cv::IMREAD_UNCHANGED);
+        const std::string png = name.stem().string() + ".png";
+        const cv::Mat labels = cv::imread((dir / "labels" / png).string(), cv::IMREAD_UNCHANGED);
+        const cv::Mat dyn = cv::imread((dir / "dynamic" / png).string(), cv::IMREAD_UNCHANGED);
+        const cv::Mat depth = cv::imread((dir / "depth" / png).string(), cv::IMREAD_UNCHANGED);
         cv::Mat labelOverlay = rgb.clone(), dynOverlay = rgb.clone(), depthVis;
         for (int v = 0; v < rgb.rows; v++)
         {

@@ -1,6 +1,6 @@
 // Writes generated frames to disk in the TUM RGB-D layout plus ground-truth folders.
 //
-// DIR/rgb/NNNNNN.png, depth/NNNNNN.png (16-bit, factor 5000), labels/ (8-bit VOC ids),
+// DIR/rgb/NNNNNN.png (or .jpg), depth/NNNNNN.png (16-bit, factor 5000), labels/ (8-bit VOC ids),
 // instances/ (16-bit), dynamic/ (8-bit, 255 = moving), rgb.txt, depth.txt, associations.txt,
 // groundtruth.txt (T_world_cam), objects/<name>.txt (world trajectory of each person's root,
 // TUM format), meta.json (preset, seed, intrinsics, depth factor, instances and classes).
@@ -30,7 +30,13 @@ public:
                const std::string& folder);
     static core::JsonValue metaFor(const sim::SequenceGenerator& generator, size_t frames);
 
+    /// Colour as JPEG of this quality (1 - 100) instead of PNG; 0 = PNG (default).
+    void setColourJpegQuality(int quality) { jpegQuality_ = quality; }
+
     static constexpr double kDepthFactor = 5000.0;
+
+private:
+    int jpegQuality_ = 0;
 };
 
 /// A PNG contact sheet of `count` frames spread over the sequence folder: colour, labels
