@@ -16,7 +16,9 @@ done
 rm -rf "rawlogs/${name}.rawlog" "rawlogs/${name}_Images" "rawlogs/${name}_groundtruth.txt" "rawlogs/${name}_gt"
 mv "$work/seq/sequence.rawlog" "rawlogs/${name}.rawlog"
 mv "$work/seq/sequence_Images" "rawlogs/${name}_Images"
-mv "$work/seq/sequence_groundtruth.txt" "rawlogs/${name}_groundtruth.txt"
+# A fixed first comment line (the converter names its temporary source folder there).
+sed '1s|.*|# ground truth of the synthetic walking_xyz sample (smap-synth, seed 1)|' \
+    "$work/seq/sequence_groundtruth.txt" > "rawlogs/${name}_groundtruth.txt"
 mkdir -p "rawlogs/${name}_gt"
 mv "$work"/seq/{labels,instances,dynamic,objects,meta.json} "rawlogs/${name}_gt/"
 du -sh "rawlogs/${name}"* | sed 's/^/make-sample: /'

@@ -107,9 +107,10 @@ core::PinholeCamera compositeOnto(const CommandLine& cl, size_t frames, uint32_t
                                            static_cast<size_t>(count), seed);
     if (compositor.freeSpaceViolations() > 0)
         log.logFmt(mrpt::system::LVL_WARN,
-                   "compositing: %zu body samples of the people are not known free space "
-                   "(inside an observed surface, or seen free by no frame)",
-                   compositor.freeSpaceViolations());
+                   "compositing: of %zu body samples of the people, %zu lie within 20 cm of an "
+                   "observed surface and %zu are seen free by no frame",
+                   compositor.freeSpaceCheck().samples, compositor.freeSpaceCheck().inside,
+                   compositor.freeSpaceCheck().unseen);
     io::TumSource frameSource(folder, params);
     frameSource.setMinLoggingLevel(mrpt::system::LVL_WARN);
     size_t cursor = 0;  // next entry index frameSource will deliver
@@ -140,7 +141,12 @@ core::PinholeCamera compositeOnto(const CommandLine& cl, size_t frames, uint32_t
     meta.set("seed", static_cast<int64_t>(seed)).set("frames", static_cast<uint64_t>(frames));
     meta.set("depth_factor", SyntheticSequenceWriter::kDepthFactor);
     meta.set("floor_height_m", compositor.floorHeight());
-    meta.set("free_space_violations", static_cast<uint64_t>(compositor.freeSpaceViolations()));
+    const auto& fsc = compositor.freeSpaceCheck();
+    auto freeSpace = core::JsonValue::object();
+    freeSpace.set("body_samples", static_cast<uint64_t>(fsc.samples));
+    freeSpace.set("inside_observed_surface", static_cast<uint64_t>(fsc.inside));
+    freeSpace.set("never_seen_free", static_cast<uint64_t>(fsc.unseen));
+    meta.set("free_space_check", freeSpace);
     auto up = core::JsonValue::array();
     for (int k = 0; k < 3; k++)
         up.push(core::JsonValue::number(compositor.up()[k]));

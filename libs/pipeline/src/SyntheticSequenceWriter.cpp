@@ -149,8 +149,13 @@ void SyntheticSequenceWriter::write(const FrameProducer& produce, size_t frames,
                                        obj + " root pose (feet on the floor, z up)");
 
             {
+                auto metaOut = meta;
+                auto paths = core::JsonValue::array();
+                for (const auto& [obj, traj] : objects)
+                    paths.push(core::JsonValue::string("objects/" + obj + ".txt"));
+                metaOut.set("object_trajectories", paths);
                 core::AtomicTextFile f((tmp / "meta.json").string());
-                f.stream() << meta.dump();
+                f.stream() << metaOut.dump();
                 f.commit();
             }
         });

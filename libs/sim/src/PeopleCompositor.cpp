@@ -149,7 +149,7 @@ PeopleCompositor::PeopleCompositor(const std::vector<cv::Mat>& sprites,
     // furniture, or never in view).
     auto collisions = [&](const CompositedPerson& p)
     {
-        size_t bad = 0;
+        FreeSpaceCheck c;
         for (double x = -p.halfRange; x <= p.halfRange + 1e-9; x += p.halfRange / 4)
         {
             // From 0.35 m up: rays through lower samples meet the floor just behind them.
@@ -181,17 +181,20 @@ PeopleCompositor::PeopleCompositor(const std::vector<cv::Mat>& sprites,
                         if (z > Xc.z() + 0.2)
                             seenFree = true;
                     }
-                    bad += (inside || !seenFree) ? 1 : 0;
+                    c.samples++;
+                    c.inside += inside ? 1 : 0;
+                    c.unseen += (!inside && !seenFree) ? 1 : 0;
                 }
             }
         }
-        return bad;
+        return c;
     };
     std::uniform_real_distribution<double> heading(-1.0, 1.0), range(0.5, 1.0);
 
     for (size_t i = 0; i < count; i++)
     {
         CompositedPerson best;
+        FreeSpaceCheck bestCheck;
         size_t bestHits = std::numeric_limits<size_t>::max();
         for (int attempt = 0; attempt < 200 && bestHits > 0; attempt++)
         {
@@ -207,14 +210,17 @@ PeopleCompositor::PeopleCompositor(const std::vector<cv::Mat>& sprites,
             p.speed = speed(rng);
             p.phase = phase(rng);
             p.instanceId = static_cast<uint16_t>(i + 1);
-            const size_t hits = collisions(p);
-            if (hits < bestHits)
+            const FreeSpaceCheck check = collisions(p);
+            if (check.inside + check.unseen < bestHits)
             {
-                bestHits = hits;
+                bestHits = check.inside + check.unseen;
+                bestCheck = check;
                 best = p;
             }
         }
-        violations_ += bestHits;
+        freeSpace_.samples += bestCheck.samples;
+        freeSpace_.inside += bestCheck.inside;
+        freeSpace_.unseen += bestCheck.unseen;
         people_.push_back(best);
     }
 }

@@ -40,6 +40,13 @@ struct CompositeFrame
     std::vector<std::pair<std::string, mrpt::poses::CPose3D>> objectPoses;
 };
 
+struct FreeSpaceCheck
+{
+    size_t samples = 0;  ///< body samples tested
+    size_t inside = 0;   ///< within 20 cm of a surface some probe sees
+    size_t unseen = 0;   ///< not inside, but seen free by no probe
+};
+
 class PeopleCompositor
 {
 public:
@@ -70,13 +77,16 @@ public:
     double floorHeight() const { return floorHeight_; }  ///< along up()
     /// Body samples of the chosen walking lines not known to be free space (0 = every sample
     /// was seen free by a probe and lies in no observed surface).
-    size_t freeSpaceViolations() const { return violations_; }
+    size_t freeSpaceViolations() const { return freeSpace_.inside + freeSpace_.unseen; }
+    /// The same, split: samples within 20 cm of a surface a probe sees (a likely collision)
+    /// and samples that no probe sees free (unknown space), out of all body samples.
+    const FreeSpaceCheck& freeSpaceCheck() const { return freeSpace_; }
 
 private:
     std::vector<CompositedPerson> people_;
     Eigen::Vector3d up_;
     double floorHeight_ = 0.0;
-    size_t violations_ = 0;
+    FreeSpaceCheck freeSpace_;
 };
 
 /// Loads every person_*.png (RGBA) of a folder; throws core::InputError when none loads.
