@@ -95,6 +95,6 @@ void BM_ReadRawlog(benchmark::State& state)
 }
 }  // namespace
 
-BENCHMARK(BM_ReadTumFolder)->Unit(benchmark::kMillisecond)->MinTime(3.0);
-BENCHMARK(BM_ReadRawlog)->Unit(benchmark::kMillisecond)->MinTime(3.0);
+BENCHMARK(BM_ReadTumFolder)->Unit(benchmark::kMillisecond)->MinTime(3.0)->UseRealTime();
+BENCHMARK(BM_ReadRawlog)->Unit(benchmark::kMillisecond)->MinTime(3.0)->UseRealTime();
 BENCHMARK_MAIN();

@@ -54,10 +54,12 @@ void BM_OrbKeypointsPerFrame(benchmark::State& state, const char* preset)
 
 BENCHMARK_CAPTURE(BM_RenderFrame, walking_xyz, "walking_xyz")
     ->Unit(benchmark::kMillisecond)
-    ->MinTime(3.0);
+    ->MinTime(3.0)
+    ->UseRealTime();
 BENCHMARK_CAPTURE(BM_RenderFrame, static_halfsphere, "static_halfsphere")
     ->Unit(benchmark::kMillisecond)
-    ->MinTime(3.0);
+    ->MinTime(3.0)
+    ->UseRealTime();
 BENCHMARK_CAPTURE(BM_OrbKeypointsPerFrame, walking_xyz, "walking_xyz")
     ->Unit(benchmark::kMillisecond)
     ->Iterations(1);
