@@ -41,7 +41,7 @@ TEST(Cli, MainJobRunsOnTheEmbeddedDefault)
     const CmdResult r = run(bin("semantic-mapper") + " --out " + (dir / "out"));
     EXPECT_EQ(r.code, 0) << r.output;
     EXPECT_NE(r.output.find("outputs in"), std::string::npos) << r.output;
-    EXPECT_NE(r.output.find("150 frames from"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("200 frames from"), std::string::npos) << r.output;
     EXPECT_TRUE(std::ifstream(dir / "out/summary.json").good());
 }
 

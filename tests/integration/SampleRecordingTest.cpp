@@ -38,7 +38,7 @@ TEST(SampleRecording, RawlogFramesMatchGroundTruthAndLabels)
         withPeople += cv::countNonZero(labels == 15) > 0;
         n++;
     }
-    EXPECT_EQ(n, 150u);
-    EXPECT_EQ(core::associateTimestamps(tFrames, tGt, 0.001).size(), 150u);
-    EXPECT_GT(withPeople, 75u);  // people are in view most of the time
+    EXPECT_EQ(n, 200u);
+    EXPECT_EQ(core::associateTimestamps(tFrames, tGt, 0.001).size(), 200u);
+    EXPECT_GT(withPeople, 100u);  // people are in view most of the time
 }

@@ -33,13 +33,13 @@ TEST(SemanticMapperApp, RunsOnTheEmbeddedDefaultRecording)
     pipeline::SemanticMapperApp app;
     app.setMinLoggingLevel(mrpt::system::LVL_WARN);
     EXPECT_EQ(app.run({"--out", dir / "o"}, out), 0);
-    // The project's sample: 150 frames of synthetic walking_xyz at 320x240 (fx 262.5).
-    EXPECT_EQ(app.result().frames, 150u);
+    // The project's sample: 200 frames of synthetic walking_xyz at 320x240 (fx 262.5).
+    EXPECT_EQ(app.result().frames, 200u);
     const std::string summary = smap::test::readTextFile(dir / "o/summary.json");
-    EXPECT_NE(summary.find("\"frames\": 150"), std::string::npos) << summary;
+    EXPECT_NE(summary.find("\"frames\": 200"), std::string::npos) << summary;
     EXPECT_NE(summary.find("\"fx\": 262.5"), std::string::npos) << summary;
     EXPECT_NE(summary.find("sample_walking_xyz_groundtruth.txt"), std::string::npos) << summary;
-    EXPECT_EQ(countLines(dir / "o/frames.csv"), 151u);
+    EXPECT_EQ(countLines(dir / "o/frames.csv"), 201u);
     EXPECT_TRUE(fs::exists(dir / "o/config-effective.ini"));
     EXPECT_NE(out.str().find("outputs in"), std::string::npos);
 }
