@@ -1,0 +1,40 @@
+// Binary descriptor distances and brute-force matching with Lowe's ratio test.
+#pragma once
+
+#include <cstdint>
+#include <cstring>
+#include <opencv2/core/mat.hpp>
+#include <vector>
+
+namespace smap::features
+{
+/// Hamming distance between two 256-bit descriptors.
+inline int descriptorDistance(const uint8_t* a, const uint8_t* b)
+{
+    int d = 0;
+    for (int i = 0; i < 4; ++i)
+    {
+        uint64_t x = 0, y = 0;
+        std::memcpy(&x, a + 8 * i, 8);
+        std::memcpy(&y, b + 8 * i, 8);
+        d += __builtin_popcountll(x ^ y);
+    }
+    return d;
+}
+
+struct DescriptorMatch
+{
+    size_t query = 0;
+    size_t train = 0;
+    int distance = 0;
+};
+
+/// For every query row in `query_rows` (all rows when empty), its nearest train row in
+/// `train_rows` (all when empty) when the distance is at most `max_distance` and below
+/// `ratio` times the second-nearest. Each train row is used at most once (the closest query
+/// wins), so the result is a one-to-one set.
+std::vector<DescriptorMatch> matchWithRatioTest(const cv::Mat& query, const cv::Mat& train,
+                                                float ratio, int max_distance,
+                                                const std::vector<size_t>& query_rows = {},
+                                                const std::vector<size_t>& train_rows = {});
+}  // namespace smap::features

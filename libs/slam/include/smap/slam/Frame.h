@@ -1,0 +1,50 @@
+// A frame as tracking sees it: its features, their per-keypoint weights (the outside feature
+// mask), the map points they matched and the estimated camera pose.
+#pragma once
+
+#include <Eigen/Geometry>
+#include <memory>
+#include <opencv2/core/mat.hpp>
+#include <vector>
+
+#include "smap/core/PinholeCamera.h"
+#include "smap/features/FeatureGrid.h"
+#include "smap/features/FeatureSet.h"
+
+namespace smap::slam
+{
+class MapPoint;
+
+struct Frame
+{
+    uint64_t id = 0;  ///< position in the processed sequence
+    double timestamp = 0.0;
+    core::PinholeCamera camera;
+    double bf = 0.0;          ///< virtual baseline x fx
+    double closeDepth = 0.0;  ///< m
+    features::FeatureSet features;
+    features::FeatureGrid grid;  ///< over the undistorted keypoints
+    /// Per keypoint, in [0, 1]: 0 excludes the keypoint from tracking and mapping (e.g. a
+    /// dynamic point), values in between scale its weight in the optimisation.
+    std::vector<float> weights;
+    std::vector<std::shared_ptr<MapPoint>> points;  ///< matched map point or null
+    std::vector<bool> outlier;
+    Eigen::Isometry3d T_cam_world = Eigen::Isometry3d::Identity();
+    cv::Mat thumbnail;  ///< small, blurred, zero-mean unit-norm image for relocalisation
+
+    size_t size() const { return features.size(); }
+    bool usable(size_t i) const { return weights[i] > 0.0F; }
+    /// Sets per-keypoint weights; an empty vector means all 1. Throws std::invalid_argument
+    /// when the size does not match or a weight is outside [0, 1].
+    void setWeights(const std::vector<float>& w);
+    /// Weights from a mask image on the colour image's grid: 0 where mask == 0.
+    void setMask(const cv::Mat& mask);
+    void clearMatches();
+    int countMatches() const;  ///< non-outlier matches to map points
+};
+
+/// Small normalised image used to rank keyframes for relocalisation.
+cv::Mat makeThumbnail(const cv::Mat& colour_or_grey);
+/// Zero-mean normalised cross-correlation of two thumbnails, in [-1, 1].
+double thumbnailSimilarity(const cv::Mat& a, const cv::Mat& b);
+}  // namespace smap::slam

@@ -1,0 +1,32 @@
+// Local bundle adjustment around a keyframe: its covisible keyframes and every point they see
+// are optimised, keyframes that only see those points hold still (robust cost, outlier
+// observations removed between two solves). The map mutex is held to copy the problem out and
+// to write the result back, never while solving.
+#pragma once
+
+#include <atomic>
+#include <memory>
+
+#include "smap/slam/SlamParameters.h"
+
+namespace smap::slam
+{
+class KeyFrame;
+class Map;
+
+struct LocalBundleAdjustmentStats
+{
+    int keyframes = 0;       ///< optimised
+    int fixedKeyframes = 0;  ///< held constant
+    int points = 0;
+    int observations = 0;
+    int outliersRemoved = 0;
+    bool aborted = false;
+};
+
+/// `abort` stops the solver early (tracking wants to insert a keyframe); whatever was reached
+/// is still written back.
+LocalBundleAdjustmentStats localBundleAdjustment(const std::shared_ptr<KeyFrame>& keyframe,
+                                                 Map& map, const LocalMappingParameters& params,
+                                                 const std::atomic<bool>& abort);
+}  // namespace smap::slam

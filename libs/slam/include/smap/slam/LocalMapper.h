@@ -1,0 +1,79 @@
+// Local mapping: takes the keyframes tracking inserts, links their points into the map, culls
+// weak points, fuses duplicates with covisible keyframes, runs local bundle adjustment and culls
+// redundant keyframes. Runs in its own thread (tracking never waits for it) or, for tests and
+// reproducible runs, synchronously.
+#pragma once
+
+#include <mrpt/system/COutputLogger.h>
+
+#include <atomic>
+#include <condition_variable>
+#include <deque>
+#include <list>
+#include <memory>
+#include <mutex>
+#include <thread>
+
+#include "smap/slam/LocalBundleAdjustment.h"
+#include "smap/slam/SlamParameters.h"
+
+namespace smap::slam
+{
+class KeyFrame;
+class Map;
+class MapPoint;
+
+class LocalMapper : public mrpt::system::COutputLogger
+{
+public:
+    LocalMapper(Map& map, const LocalMappingParameters& params);
+    ~LocalMapper() override;
+    LocalMapper(const LocalMapper&) = delete;
+    LocalMapper& operator=(const LocalMapper&) = delete;
+
+    /// Queues a keyframe. Synchronous mode processes it before returning.
+    void insertKeyFrame(const std::shared_ptr<KeyFrame>& kf);
+    /// True when nothing is queued or being processed.
+    bool idle() const;
+    size_t queued() const;
+    /// Asks a running bundle adjustment to stop early.
+    void interruptBundleAdjustment() { abortBa_ = true; }
+    /// Blocks until every queued keyframe is processed (end of a run).
+    void waitUntilIdle();
+
+    struct Stats
+    {
+        size_t keyframesProcessed = 0;
+        size_t keyframesCulled = 0;
+        size_t pointsCulled = 0;
+        size_t pointsFused = 0;
+        size_t baRuns = 0;
+        size_t baAborted = 0;
+        double baSeconds = 0.0;
+        double totalSeconds = 0.0;
+    };
+    Stats stats() const;
+
+private:
+    void run();
+    void process(const std::shared_ptr<KeyFrame>& kf);
+    void linkNewKeyFrame(const std::shared_ptr<KeyFrame>& kf);
+    void cullRecentPoints(const KeyFrame& kf);
+    void fuseWithNeighbours(const std::shared_ptr<KeyFrame>& kf);
+    void cullKeyFrames(const KeyFrame& kf);
+
+    Map& map_;
+    LocalMappingParameters params_;
+    std::list<std::shared_ptr<MapPoint>> recentPoints_;
+
+    mutable std::mutex queueMutex_;
+    std::condition_variable queueCv_;
+    std::condition_variable idleCv_;
+    std::deque<std::shared_ptr<KeyFrame>> queue_;
+    bool busy_ = false;
+    bool stop_ = false;
+    std::atomic<bool> abortBa_{false};
+    Stats stats_;
+    std::unique_ptr<std::thread> thread_;
+};
+}  // namespace smap::slam

@@ -1,0 +1,44 @@
+// The map: keyframes and map points, with the one mutex that guards all of them. Ids come from
+// the map, so two maps (two pipelines) can live in one process.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <mutex>
+
+#include "smap/slam/KeyFrame.h"
+#include "smap/slam/MapPoint.h"
+
+namespace smap::slam
+{
+class Map
+{
+public:
+    /// Held by tracking while it reads the map and by local mapping while it changes it;
+    /// bundle adjustment solves without it.
+    std::mutex& mutex() { return mutex_; }
+
+    std::shared_ptr<KeyFrame> createKeyFrame(const Frame& frame);
+    std::shared_ptr<MapPoint> createPoint(const Eigen::Vector3d& position_world,
+                                          KeyFrame* reference);
+
+    /// Live (not bad) keyframes and points by id.
+    const std::map<uint64_t, std::shared_ptr<KeyFrame>>& keyframes() const { return keyframes_; }
+    const std::map<uint64_t, std::shared_ptr<MapPoint>>& points() const { return points_; }
+    /// Every keyframe ever created, culled ones included (for the trajectory).
+    const std::map<uint64_t, std::shared_ptr<KeyFrame>>& allKeyFrames() const { return all_; }
+
+    /// Drops bad keyframes and points from the live sets.
+    void removeBad();
+
+private:
+    std::mutex mutex_;
+    uint64_t nextKeyFrameId_ = 0;
+    uint64_t nextPointId_ = 0;
+    std::map<uint64_t, std::shared_ptr<KeyFrame>> keyframes_;
+    std::map<uint64_t, std::shared_ptr<KeyFrame>> all_;
+    std::map<uint64_t, std::shared_ptr<MapPoint>> points_;
+};
+}  // namespace smap::slam

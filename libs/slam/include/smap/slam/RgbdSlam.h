@@ -1,0 +1,72 @@
+// ORB-SLAM-style RGB-D SLAM: owns the map, the ORB extractor, tracking and local mapping (in its
+// own thread unless [local_mapping] threaded = false). Frames are prepared (features, depth)
+// and then tracked, so that a dynamic filter can weight the keypoints in between.
+#pragma once
+
+#include <mrpt/system/COutputLogger.h>
+
+#include <memory>
+#include <opencv2/core/mat.hpp>
+#include <vector>
+
+#include "smap/core/RgbdFrame.h"
+#include "smap/core/Trajectory.h"
+#include "smap/features/OrbParameters.h"
+#include "smap/slam/Frame.h"
+#include "smap/slam/LocalMapper.h"
+#include "smap/slam/SlamParameters.h"
+#include "smap/slam/Tracker.h"
+
+namespace smap::features
+{
+class OrbExtractor;
+}
+
+namespace smap::slam
+{
+class Map;
+
+class RgbdSlam : public mrpt::system::COutputLogger
+{
+public:
+    RgbdSlam(const features::OrbParameters& orb, const TrackerParameters& tracking,
+             const LocalMappingParameters& mapping);
+    ~RgbdSlam() override;
+    RgbdSlam(const RgbdSlam&) = delete;
+    RgbdSlam& operator=(const RgbdSlam&) = delete;
+
+    /// Features, undistorted keypoints, depth and the thumbnail of a frame (no map access).
+    Frame prepare(const core::RgbdFrame& rgbd) const;
+    /// Tracks a prepared frame; frame.weights (empty = all 1) carry the outside feature mask.
+    TrackingResult track(Frame frame);
+    /// prepare + track, with an optional CV_8UC1 mask (0 = do not use features there).
+    TrackingResult process(const core::RgbdFrame& rgbd, const cv::Mat& mask = {});
+
+    /// Waits for local mapping to finish the queued keyframes (call at the end of a run).
+    void finish();
+
+    /// Pose of every frame that has one, through its reference keyframe's refined pose.
+    core::Trajectory trajectory() const;
+    /// Current poses of the keyframes that were not culled.
+    core::Trajectory keyFrameTrajectory() const;
+    const std::vector<Tracker::FrameRecord>& records() const { return tracker_->records(); }
+
+    /// World positions of the live map points.
+    std::vector<Eigen::Vector3d> mapPointPositions() const;
+    size_t numKeyFrames() const;
+    size_t numPoints() const;
+    LocalMapper::Stats mappingStats() const { return mapper_->stats(); }
+
+private:
+    features::OrbParameters orbParams_;
+    TrackerParameters trackingParams_;
+    std::unique_ptr<features::OrbExtractor> extractor_;
+    std::unique_ptr<Map> map_;
+    std::unique_ptr<LocalMapper> mapper_;
+    std::unique_ptr<Tracker> tracker_;
+    uint64_t nextFrameId_ = 0;
+};
+
+/// Optical-frame pose as an MRPT pose.
+mrpt::poses::CPose3D toCPose3D(const Eigen::Isometry3d& T);
+}  // namespace smap::slam

@@ -1,0 +1,56 @@
+// Options of tracking ([tracking]) and local mapping ([local_mapping]), loaded once from the
+// configuration. Defaults are ORB-SLAM2's RGB-D values where it has one.
+#pragma once
+
+#include <mrpt/config/CLoadableOptions.h>
+
+namespace smap::slam
+{
+struct TrackerParameters : public mrpt::config::CLoadableOptions
+{
+    /// Virtual stereo baseline (m) for the right-image coordinate u - fx * b / z.
+    double virtual_baseline = 0.08;
+    /// Keypoints closer than this (m) count as "close": their depth is trusted for new points.
+    double close_depth = 3.0;
+    double min_depth = 0.1;  ///< keypoint depths outside [min_depth, max_depth] are ignored
+    double max_depth = 8.0;
+    /// Depth on a discontinuity (5x5 span > ratio x z) is not trusted; <= 0 disables.
+    double depth_edge_ratio = 0.05;
+    int init_min_points = 300;         ///< keypoints with depth needed to start the map
+    double motion_search_radius = 15;  ///< px at level 0, motion-model projection search
+    double local_search_radius = 3;    ///< px at level 0 (x view-angle factor), local map
+    int min_matches_motion = 20;       ///< motion-model matches before optimisation
+    int min_inliers = 30;              ///< inliers that keep tracking "ok"
+    int min_inliers_after_relocalisation = 50;
+    int keyframe_max_frames = 30;      ///< a keyframe at least this often (frames)
+    double keyframe_ref_ratio = 0.75;  ///< tracked / reference-keyframe points that asks for one
+    /// Keyframes within this distance (m) of the camera, looking the same way, join the local
+    /// map even without shared points (revisits); 0 disables.
+    double revisit_radius = 0.5;
+    int relocalisation_candidates = 5;  ///< keyframes tried per lost frame, by image similarity
+    int optimisation_rounds = 4;        ///< pose-only optimisation: outlier rejection rounds
+    int optimisation_iterations = 10;   ///< Levenberg-Marquardt iterations per round
+
+    void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
+                            const std::string& section) override;
+    void saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
+                          const std::string& section) const override;
+};
+
+struct LocalMappingParameters : public mrpt::config::CLoadableOptions
+{
+    /// Run local mapping in its own thread (tracking never waits for it). false: every
+    /// keyframe is processed before the next frame is tracked, results are deterministic.
+    bool threaded = true;
+    int ba_iterations = 5;             ///< robust local BA before outliers are removed
+    int ba_refine_iterations = 10;     ///< after removal
+    int covisibility_min_weight = 15;  ///< shared points that make a covisibility edge
+    int fuse_neighbours = 10;          ///< covisible keyframes searched for duplicate points
+    double keyframe_redundancy = 0.9;  ///< cull a keyframe whose points are this redundant
+
+    void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
+                            const std::string& section) override;
+    void saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
+                          const std::string& section) const override;
+};
+}  // namespace smap::slam

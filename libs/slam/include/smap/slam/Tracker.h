@@ -1,0 +1,106 @@
+// Tracking: the pose of every frame against the map (ORB-SLAM2's RGB-D tracking). Constant
+// velocity prediction with projection search, fallback to the reference keyframe, local map
+// tracking over covisible keyframes, motion-only BA, keyframe decisions, relocalisation when
+// lost. Knows nothing of semantics: outside knowledge arrives as per-keypoint weights.
+#pragma once
+
+#include <mrpt/system/COutputLogger.h>
+
+#include <Eigen/Geometry>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "smap/slam/Frame.h"
+#include "smap/slam/SlamParameters.h"
+
+namespace smap::slam
+{
+class KeyFrame;
+class LocalMapper;
+class Map;
+class MapPoint;
+
+enum class TrackingStatus
+{
+    NotInitialised,  ///< waiting for a frame with enough depth
+    Initialised,     ///< this frame started the map
+    Ok,
+    Relocalised,  ///< was lost, found again on this frame
+    Lost
+};
+std::string toString(TrackingStatus s);
+inline bool hasPose(TrackingStatus s)
+{
+    return s == TrackingStatus::Initialised || s == TrackingStatus::Ok ||
+           s == TrackingStatus::Relocalised;
+}
+
+struct TrackingTimings
+{
+    double extraction_ms = 0.0;
+    double matching_ms = 0.0;
+    double optimisation_ms = 0.0;
+    double total_ms = 0.0;  ///< tracking alone (extraction excluded)
+};
+
+struct TrackingResult
+{
+    TrackingStatus status = TrackingStatus::NotInitialised;
+    Eigen::Isometry3d T_world_cam = Eigen::Isometry3d::Identity();  ///< when hasPose(status)
+    int inliers = 0;  ///< map point matches that survived the last pose optimisation
+    int keypoints = 0;
+    bool newKeyFrame = false;
+    TrackingTimings timings;
+};
+
+class Tracker : public mrpt::system::COutputLogger
+{
+public:
+    Tracker(Map& map, LocalMapper& mapper, const TrackerParameters& params);
+
+    /// Tracks a prepared frame (features, depth, weights). Takes the frame: it becomes the
+    /// "last frame" of the next call.
+    TrackingResult track(Frame frame);
+
+    /// One record per tracked frame, to rebuild the trajectory after keyframes are refined.
+    struct FrameRecord
+    {
+        uint64_t frameId = 0;
+        double timestamp = 0.0;
+        TrackingStatus status = TrackingStatus::NotInitialised;
+        std::shared_ptr<KeyFrame> reference;  ///< null when the frame has no pose
+        Eigen::Isometry3d T_cam_reference = Eigen::Isometry3d::Identity();
+    };
+    const std::vector<FrameRecord>& records() const { return records_; }
+
+private:
+    bool initialise(Frame& frame);
+    bool trackWithMotionModel(Frame& frame);
+    bool trackReferenceKeyFrame(Frame& frame);
+    bool relocalise(Frame& frame);
+    bool trackLocalMap(Frame& frame);
+    void updateLocalMap(const Frame& frame);
+    bool needNewKeyFrame(const Frame& frame) const;
+    std::shared_ptr<KeyFrame> createKeyFrame(Frame& frame);
+    void followReplacedPoints(Frame& frame) const;
+    int optimise(Frame& frame);
+    int discardOutliers(Frame& frame) const;
+
+    Map& map_;
+    LocalMapper& mapper_;
+    TrackerParameters params_;
+    bool initialised_ = false;
+    bool lost_ = false;
+    std::optional<Frame> last_;
+    std::optional<Eigen::Isometry3d> velocity_;  ///< T_cam_lastcam of the last step
+    std::shared_ptr<KeyFrame> reference_;
+    uint64_t lastKeyFrameFrameId_ = 0;
+    uint64_t lastRelocalisationFrameId_ = 0;
+    std::vector<KeyFrame*> localKeyFrames_;
+    std::vector<std::shared_ptr<MapPoint>> localPoints_;
+    std::vector<FrameRecord> records_;
+    TrackingTimings timings_;
+};
+}  // namespace smap::slam

@@ -1,0 +1,83 @@
+#include "smap/slam/Frame.h"
+
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+#include <stdexcept>
+#include <string>
+
+namespace smap::slam
+{
+void Frame::setWeights(const std::vector<float>& w)
+{
+    if (w.empty())
+    {
+        weights.assign(size(), 1.0F);
+        return;
+    }
+    if (w.size() != size())
+        throw std::invalid_argument("feature weights: " + std::to_string(w.size()) +
+                                    " values for " + std::to_string(size()) + " keypoints");
+    for (float x : w)
+        if (!(x >= 0.0F && x <= 1.0F))
+            throw std::invalid_argument("feature weight " + std::to_string(x) + " outside [0, 1]");
+    weights = w;
+}
+
+void Frame::setMask(const cv::Mat& mask)
+{
+    if (mask.empty())
+    {
+        weights.assign(size(), 1.0F);
+        return;
+    }
+    if (mask.type() != CV_8UC1)
+        throw std::invalid_argument("feature mask must be CV_8UC1");
+    weights.assign(size(), 1.0F);
+    for (size_t i = 0; i < size(); ++i)
+    {
+        const cv::Point2f& p = features.keypoints[i].pt;
+        const int u = static_cast<int>(std::lround(p.x)), v = static_cast<int>(std::lround(p.y));
+        if (u >= 0 && v >= 0 && u < mask.cols && v < mask.rows && mask.at<uint8_t>(v, u) == 0)
+            weights[i] = 0.0F;
+    }
+}
+
+void Frame::clearMatches()
+{
+    points.assign(size(), nullptr);
+    outlier.assign(size(), false);
+}
+
+int Frame::countMatches() const
+{
+    int n = 0;
+    for (size_t i = 0; i < points.size(); ++i)
+        if (points[i] && !outlier[i])
+            n++;
+    return n;
+}
+
+cv::Mat makeThumbnail(const cv::Mat& image)
+{
+    cv::Mat grey, small, f;
+    if (image.channels() == 3)
+        cv::cvtColor(image, grey, cv::COLOR_BGR2GRAY);
+    else
+        grey = image;
+    cv::resize(grey, small, cv::Size(40, 30), 0, 0, cv::INTER_AREA);
+    small.convertTo(f, CV_32F);
+    cv::GaussianBlur(f, f, cv::Size(5, 5), 1.5);
+    f -= cv::mean(f)[0];
+    const double n = cv::norm(f);
+    if (n > 1e-6)
+        f /= n;
+    return f;
+}
+
+double thumbnailSimilarity(const cv::Mat& a, const cv::Mat& b)
+{
+    if (a.empty() || b.empty())
+        return -1.0;
+    return a.dot(b);
+}
+}  // namespace smap::slam

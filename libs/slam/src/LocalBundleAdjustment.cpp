@@ -1,0 +1,208 @@
+#include "smap/slam/LocalBundleAdjustment.h"
+
+#include <array>
+#include <cmath>
+#include <map>
+#include <vector>
+
+#include "ReprojectionCost.h"
+#include "smap/slam/Map.h"
+
+namespace smap::slam
+{
+namespace
+{
+class AbortCallback : public ceres::IterationCallback
+{
+public:
+    explicit AbortCallback(const std::atomic<bool>& abort) : abort_(abort) {}
+    ceres::CallbackReturnType operator()(const ceres::IterationSummary&) override
+    {
+        return abort_.load() ? ceres::SOLVER_ABORT : ceres::SOLVER_CONTINUE;
+    }
+
+private:
+    const std::atomic<bool>& abort_;
+};
+
+struct BaKeyFrame
+{
+    std::shared_ptr<KeyFrame> kf;
+    std::array<double, 6> pose{};
+    bool fixed = false;
+    CameraModel cam;
+};
+struct BaPoint
+{
+    std::shared_ptr<MapPoint> mp;
+    std::array<double, 3> position{};
+};
+struct BaObservation
+{
+    size_t keyframe;  // index into keyframes
+    size_t point;     // index into points
+    size_t keypoint;  // index in the keyframe
+    Observation2D3 obs;
+    bool outlier = false;
+};
+}  // namespace
+
+LocalBundleAdjustmentStats localBundleAdjustment(const std::shared_ptr<KeyFrame>& keyframe,
+                                                 Map& map, const LocalMappingParameters& params,
+                                                 const std::atomic<bool>& abort)
+{
+    LocalBundleAdjustmentStats stats;
+    std::vector<BaKeyFrame> kfs;
+    std::vector<BaPoint> pts;
+    std::vector<BaObservation> obs;
+    {
+        std::lock_guard<std::mutex> lock(map.mutex());
+        if (keyframe->isBad())
+            return stats;
+        std::map<uint64_t, size_t> kfIndex, ptIndex;
+        auto addKf = [&](KeyFrame* kf, bool fixed)
+        {
+            const auto it = map.allKeyFrames().find(kf->id());
+            kfIndex[kf->id()] = kfs.size();
+            BaKeyFrame b{it->second, {}, fixed, CameraModel(kf->camera, kf->bf)};
+            poseToParams(kf->T_cam_world(), b.pose.data());
+            kfs.push_back(b);
+        };
+        addKf(keyframe.get(), false);
+        for (KeyFrame* kf : keyframe->bestCovisibles())
+            if (!kf->isBad())
+                addKf(kf, false);
+        const size_t nLocal = kfs.size();
+        for (size_t k = 0; k < nLocal; ++k)
+        {
+            for (const auto& mp : kfs[k].kf->points)
+            {
+                if (!mp || mp->isBad() || ptIndex.count(mp->id()))
+                    continue;
+                ptIndex[mp->id()] = pts.size();
+                pts.push_back(
+                    {mp, {mp->position_world.x(), mp->position_world.y(), mp->position_world.z()}});
+            }
+        }
+        for (size_t p = 0; p < pts.size(); ++p)
+        {
+            for (const auto& [kfId, o] : pts[p].mp->observations())
+            {
+                if (!kfIndex.count(kfId))
+                    addKf(o.keyframe, true);
+                const size_t k = kfIndex[kfId];
+                const KeyFrame& kf = *o.keyframe;
+                if (kf.weights[o.index] <= 0.0F)
+                    continue;
+                const auto& fs = kf.features;
+                BaObservation b{k, p, o.index, {}};
+                b.obs.u = fs.undistorted[o.index].x;
+                b.obs.v = fs.undistorted[o.index].y;
+                b.obs.ur = fs.hasDepth(o.index) ? fs.rightU[o.index] : -1.0;
+                b.obs.sqrtInfo = std::sqrt(
+                    fs.pyramid.invSigma2[static_cast<size_t>(fs.keypoints[o.index].octave)] *
+                    kf.weights[o.index]);
+                obs.push_back(b);
+            }
+        }
+        // Gauge freedom: with no fixed keyframe, hold the oldest one.
+        bool anyFixed = false;
+        for (const auto& k : kfs)
+            anyFixed = anyFixed || k.fixed;
+        if (!anyFixed)
+        {
+            size_t oldest = 0;
+            for (size_t k = 1; k < kfs.size(); ++k)
+                if (kfs[k].kf->id() < kfs[oldest].kf->id())
+                    oldest = k;
+            kfs[oldest].fixed = true;
+        }
+    }
+    for (const auto& k : kfs)
+        (k.fixed ? stats.fixedKeyframes : stats.keyframes)++;
+    stats.points = static_cast<int>(pts.size());
+    stats.observations = static_cast<int>(obs.size());
+    if (stats.keyframes == 0 || pts.empty())
+        return stats;
+
+    AbortCallback callback(abort);
+    auto solve = [&](int iterations, bool robust)
+    {
+        if (iterations <= 0 || abort.load())
+            return;
+        ceres::Problem problem;
+        for (auto& o : obs)
+        {
+            if (o.outlier)
+                continue;
+            auto& kf = kfs[o.keyframe];
+            ceres::LossFunction* loss =
+                robust ? new ceres::HuberLoss(std::sqrt(o.obs.stereo() ? kChi2Stereo : kChi2Mono))
+                       : nullptr;
+            if (o.obs.stereo())
+                problem.AddResidualBlock(
+                    new ceres::AutoDiffCostFunction<ReprojectionResidual<3>, 3, 6, 3>(
+                        new ReprojectionResidual<3>(o.obs, kf.cam)),
+                    loss, kf.pose.data(), pts[o.point].position.data());
+            else
+                problem.AddResidualBlock(
+                    new ceres::AutoDiffCostFunction<ReprojectionResidual<2>, 2, 6, 3>(
+                        new ReprojectionResidual<2>(o.obs, kf.cam)),
+                    loss, kf.pose.data(), pts[o.point].position.data());
+        }
+        for (auto& kf : kfs)
+            if (kf.fixed && problem.HasParameterBlock(kf.pose.data()))
+                problem.SetParameterBlockConstant(kf.pose.data());
+        ceres::Solver::Options options;
+        options.linear_solver_type = ceres::SPARSE_SCHUR;
+        options.max_num_iterations = iterations;
+        options.num_threads = 1;
+        options.logging_type = ceres::SILENT;
+        options.callbacks.push_back(&callback);
+        ceres::Solver::Summary summary;
+        ceres::Solve(options, &problem, &summary);
+        stats.aborted = stats.aborted || summary.termination_type == ceres::USER_FAILURE;
+    };
+    auto classify = [&]()
+    {
+        for (auto& o : obs)
+        {
+            bool inFront = false;
+            const double chi2 =
+                reprojectionChi2(kfs[o.keyframe].pose.data(), pts[o.point].position.data(), o.obs,
+                                 kfs[o.keyframe].cam, inFront);
+            o.outlier = !inFront || chi2 > (o.obs.stereo() ? kChi2Stereo : kChi2Mono);
+        }
+    };
+    solve(params.ba_iterations, true);
+    classify();
+    solve(params.ba_refine_iterations, false);
+    classify();
+    stats.aborted = stats.aborted || abort.load();
+
+    std::lock_guard<std::mutex> lock(map.mutex());
+    for (const auto& o : obs)
+    {
+        if (!o.outlier)
+            continue;
+        KeyFrame& kf = *kfs[o.keyframe].kf;
+        const auto& mp = pts[o.point].mp;
+        if (kf.isBad() || mp->isBad() || kf.points[o.keypoint] != mp)
+            continue;
+        kf.points[o.keypoint].reset();
+        mp->eraseObservation(&kf);
+        stats.outliersRemoved++;
+    }
+    for (auto& k : kfs)
+        if (!k.fixed && !k.kf->isBad())
+            k.kf->setPose(paramsToPose(k.pose.data()));
+    for (auto& p : pts)
+    {
+        if (p.mp->isBad())
+            continue;
+        p.mp->position_world = Eigen::Vector3d(p.position[0], p.position[1], p.position[2]);
+        p.mp->updateNormalAndDepth();
+    }
+    return stats;
+}
+}  // namespace smap::slam

@@ -1,0 +1,293 @@
+#include "smap/slam/LocalMapper.h"
+
+#include <chrono>
+#include <set>
+
+#include "smap/slam/Map.h"
+#include "smap/slam/ProjectionSearch.h"
+
+namespace smap::slam
+{
+namespace
+{
+double secondsSince(std::chrono::steady_clock::time_point t0)
+{
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+}  // namespace
+
+LocalMapper::LocalMapper(Map& map, const LocalMappingParameters& params)
+    : COutputLogger("local-mapping"), map_(map), params_(params)
+{
+    if (params_.threaded)
+        thread_ = std::make_unique<std::thread>([this] { run(); });
+}
+
+LocalMapper::~LocalMapper()
+{
+    if (thread_)
+    {
+        {
+            std::lock_guard<std::mutex> lock(queueMutex_);
+            stop_ = true;
+        }
+        abortBa_ = true;
+        queueCv_.notify_all();
+        thread_->join();
+    }
+}
+
+void LocalMapper::insertKeyFrame(const std::shared_ptr<KeyFrame>& kf)
+{
+    if (!thread_)
+    {
+        abortBa_ = false;
+        process(kf);
+        return;
+    }
+    {
+        std::lock_guard<std::mutex> lock(queueMutex_);
+        queue_.push_back(kf);
+    }
+    queueCv_.notify_one();
+}
+
+bool LocalMapper::idle() const
+{
+    std::lock_guard<std::mutex> lock(queueMutex_);
+    return queue_.empty() && !busy_;
+}
+
+size_t LocalMapper::queued() const
+{
+    std::lock_guard<std::mutex> lock(queueMutex_);
+    return queue_.size();
+}
+
+void LocalMapper::waitUntilIdle()
+{
+    if (!thread_)
+        return;
+    std::unique_lock<std::mutex> lock(queueMutex_);
+    idleCv_.wait(lock, [this] { return queue_.empty() && !busy_; });
+}
+
+LocalMapper::Stats LocalMapper::stats() const
+{
+    std::lock_guard<std::mutex> lock(queueMutex_);
+    return stats_;
+}
+
+void LocalMapper::run()
+{
+    for (;;)
+    {
+        std::shared_ptr<KeyFrame> kf;
+        {
+            std::unique_lock<std::mutex> lock(queueMutex_);
+            queueCv_.wait(lock, [this] { return stop_ || !queue_.empty(); });
+            if (stop_)
+                return;
+            kf = queue_.front();
+            queue_.pop_front();
+            busy_ = true;
+            abortBa_ = false;
+        }
+        process(kf);
+        {
+            std::lock_guard<std::mutex> lock(queueMutex_);
+            busy_ = false;
+        }
+        idleCv_.notify_all();
+    }
+}
+
+void LocalMapper::process(const std::shared_ptr<KeyFrame>& kf)
+{
+    const auto t0 = std::chrono::steady_clock::now();
+    {
+        std::lock_guard<std::mutex> lock(map_.mutex());
+        linkNewKeyFrame(kf);
+        cullRecentPoints(*kf);
+        fuseWithNeighbours(kf);
+    }
+    // Bundle adjustment is skipped while more keyframes wait: they will run it.
+    bool moreWaiting = false;
+    {
+        std::lock_guard<std::mutex> lock(queueMutex_);
+        moreWaiting = !queue_.empty();
+    }
+    LocalBundleAdjustmentStats ba;
+    double baSeconds = 0.0;
+    if (!moreWaiting && !abortBa_)
+    {
+        const auto tBa = std::chrono::steady_clock::now();
+        ba = localBundleAdjustment(kf, map_, params_, abortBa_);
+        baSeconds = secondsSince(tBa);
+    }
+    {
+        std::lock_guard<std::mutex> lock(map_.mutex());
+        cullKeyFrames(*kf);
+        map_.removeBad();
+    }
+    std::lock_guard<std::mutex> lock(queueMutex_);
+    stats_.keyframesProcessed++;
+    if (ba.keyframes > 0)
+    {
+        stats_.baRuns++;
+        stats_.baAborted += ba.aborted ? 1 : 0;
+        stats_.baSeconds += baSeconds;
+    }
+    stats_.totalSeconds += secondsSince(t0);
+    MRPT_LOG_DEBUG_FMT("keyframe %lu: BA %d+%d keyframes, %d points, %d outliers, %.1f ms",
+                       static_cast<unsigned long>(kf->id()), ba.keyframes, ba.fixedKeyframes,
+                       ba.points, ba.outliersRemoved, 1e3 * baSeconds);
+}
+
+void LocalMapper::linkNewKeyFrame(const std::shared_ptr<KeyFrame>& kf)
+{
+    for (size_t i = 0; i < kf->points.size(); ++i)
+    {
+        const auto mp = kf->points[i];
+        if (!mp)
+            continue;
+        if (mp->isBad())
+        {
+            kf->points[i].reset();
+            continue;
+        }
+        if (!mp->isObservedBy(kf.get()))
+        {
+            mp->addObservation(kf.get(), i);
+            mp->updateNormalAndDepth();
+            mp->computeDistinctiveDescriptor();
+        }
+        else if (mp->firstKeyFrameId() == kf->id())
+        {
+            recentPoints_.push_back(mp);  // created by tracking for this keyframe
+        }
+    }
+    kf->updateConnections(params_.covisibility_min_weight);
+}
+
+void LocalMapper::cullRecentPoints(const KeyFrame& kf)
+{
+    for (auto it = recentPoints_.begin(); it != recentPoints_.end();)
+    {
+        const auto& mp = *it;
+        const uint64_t age = kf.id() - mp->firstKeyFrameId();
+        if (mp->isBad())
+        {
+            it = recentPoints_.erase(it);
+        }
+        else if (mp->foundRatio() < 0.25 || (age >= 2 && mp->numObservations() < 2))
+        {
+            mp->setBad();
+            stats_.pointsCulled++;
+            it = recentPoints_.erase(it);
+        }
+        else if (age >= 3)
+        {
+            it = recentPoints_.erase(it);
+        }
+        else
+        {
+            ++it;
+        }
+    }
+}
+
+void LocalMapper::fuseWithNeighbours(const std::shared_ptr<KeyFrame>& kf)
+{
+    if (params_.fuse_neighbours <= 0)
+        return;
+    std::vector<KeyFrame*> targets;
+    std::set<uint64_t> seen{kf->id()};
+    for (KeyFrame* n : kf->bestCovisibles(params_.fuse_neighbours))
+    {
+        if (n->isBad() || !seen.insert(n->id()).second)
+            continue;
+        targets.push_back(n);
+        for (KeyFrame* n2 : n->bestCovisibles(5))
+            if (!n2->isBad() && seen.insert(n2->id()).second)
+                targets.push_back(n2);
+    }
+    constexpr double kFuseRadius = 3.0;
+    size_t fused = 0;
+    std::vector<std::shared_ptr<MapPoint>> own;
+    for (const auto& mp : kf->points)
+        if (mp && !mp->isBad())
+            own.push_back(mp);
+    for (KeyFrame* t : targets)
+        fused += static_cast<size_t>(fuse(*t, own, kFuseRadius));
+    // Their points into this keyframe.
+    std::vector<std::shared_ptr<MapPoint>> theirs;
+    std::set<uint64_t> ids;
+    for (KeyFrame* t : targets)
+        for (const auto& mp : t->points)
+            if (mp && !mp->isBad() && ids.insert(mp->id()).second)
+                theirs.push_back(mp);
+    fused += static_cast<size_t>(fuse(*kf, theirs, kFuseRadius));
+    for (const auto& mp : kf->points)
+    {
+        if (mp && !mp->isBad())
+        {
+            mp->computeDistinctiveDescriptor();
+            mp->updateNormalAndDepth();
+        }
+    }
+    kf->updateConnections(params_.covisibility_min_weight);
+    stats_.pointsFused += fused;
+}
+
+void LocalMapper::cullKeyFrames(const KeyFrame& kf)
+{
+    // A keyframe is redundant when most of its close points are seen by at least three other
+    // keyframes at the same or a finer scale. The first keyframe is never culled.
+    for (KeyFrame* k : kf.bestCovisibles())
+    {
+        if (k->isBad() || k->id() == 0 || k == &kf)
+            continue;
+        int nPoints = 0, redundant = 0;
+        for (size_t i = 0; i < k->points.size(); ++i)
+        {
+            const auto& mp = k->points[i];
+            if (!mp || mp->isBad())
+                continue;
+            const float z = k->features.depth[i];
+            if (z <= 0.0F || z > k->closeDepth)
+                continue;
+            nPoints++;
+            if (mp->numObservations() <= 3)
+                continue;
+            const int level = k->features.keypoints[i].octave;
+            int others = 0;
+            for (const auto& [id, o] : mp->observations())
+            {
+                if (o.keyframe == k)
+                    continue;
+                if (o.keyframe->features.keypoints[o.index].octave <= level + 1 && ++others >= 3)
+                    break;
+            }
+            if (others >= 3)
+                redundant++;
+        }
+        if (nPoints > 0 && redundant > params_.keyframe_redundancy * nPoints)
+        {
+            std::shared_ptr<KeyFrame> parent;
+            for (KeyFrame* c : k->bestCovisibles())
+            {
+                if (!c->isBad())
+                {
+                    parent = map_.allKeyFrames().at(c->id());
+                    break;
+                }
+            }
+            if (!parent)
+                continue;
+            k->setBad(parent);
+            stats_.keyframesCulled++;
+        }
+    }
+}
+}  // namespace smap::slam

@@ -1,0 +1,281 @@
+#include "smap/slam/ProjectionSearch.h"
+
+#include <cmath>
+#include <limits>
+
+#include "smap/features/DescriptorMatcher.h"
+#include "smap/features/RotationConsistency.h"
+#include "smap/slam/Frame.h"
+#include "smap/slam/KeyFrame.h"
+#include "smap/slam/MapPoint.h"
+
+namespace smap::slam
+{
+namespace
+{
+constexpr double kChi2Stereo = 7.815;
+constexpr double kChi2Mono = 5.991;
+
+bool alreadyMatched(const std::shared_ptr<MapPoint>& p)
+{
+    return p && !p->isBad() && p->numObservations() > 0;
+}
+
+void rejectInconsistentRotations(Frame& frame, const features::RotationConsistency& rot, int& n)
+{
+    for (size_t i : rot.inconsistent())
+    {
+        if (frame.points[i])
+        {
+            frame.points[i].reset();
+            n--;
+        }
+    }
+}
+}  // namespace
+
+bool projectIntoImage(const Eigen::Isometry3d& T_cam_world, const core::PinholeCamera& camera,
+                      const Eigen::Vector3d& p_world, Eigen::Vector3d& p_cam, Eigen::Vector2d& uv)
+{
+    p_cam = T_cam_world * p_world;
+    if (p_cam.z() <= 1e-6)
+        return false;
+    uv = camera.project(p_cam);
+    return uv.x() >= 0.0 && uv.y() >= 0.0 && uv.x() < camera.width && uv.y() < camera.height;
+}
+
+int searchFromLastFrame(Frame& current, const Frame& last, double radius)
+{
+    int n = 0;
+    features::RotationConsistency rot;
+    const auto& pyr = current.features.pyramid;
+    for (size_t i = 0; i < last.size(); ++i)
+    {
+        const auto& mp = last.points[i];
+        if (!mp || last.outlier[i] || mp->isBad())
+            continue;
+        Eigen::Vector3d pc;
+        Eigen::Vector2d uv;
+        if (!projectIntoImage(current.T_cam_world, current.camera, mp->position_world, pc, uv))
+            continue;
+        const int level = last.features.keypoints[i].octave;
+        const double r = radius * pyr.scale[static_cast<size_t>(level)];
+        const double uR = uv.x() - current.bf / pc.z();
+        int best = std::numeric_limits<int>::max();
+        size_t bestIdx = 0;
+        for (size_t j : current.grid.query(static_cast<float>(uv.x()), static_cast<float>(uv.y()),
+                                           static_cast<float>(r), level - 1, level + 1))
+        {
+            if (!current.usable(j) || alreadyMatched(current.points[j]))
+                continue;
+            if (current.features.hasDepth(j) && std::abs(uR - current.features.rightU[j]) > r)
+                continue;
+            const int d =
+                features::descriptorDistance(mp->descriptor.data(), current.features.descriptor(j));
+            if (d < best)
+            {
+                best = d;
+                bestIdx = j;
+            }
+        }
+        if (best <= kDescriptorHigh)
+        {
+            if (!current.points[bestIdx])
+                n++;
+            current.points[bestIdx] = mp;
+            current.outlier[bestIdx] = false;
+            rot.add(bestIdx, last.features.keypoints[i].angle,
+                    current.features.keypoints[bestIdx].angle);
+        }
+    }
+    rejectInconsistentRotations(current, rot, n);
+    return n;
+}
+
+int searchLocalPoints(Frame& frame, const std::vector<std::shared_ptr<MapPoint>>& points,
+                      double radius)
+{
+    const Eigen::Vector3d centre = frame.T_cam_world.inverse().translation();
+    const auto& pyr = frame.features.pyramid;
+    int n = 0;
+    for (const auto& mp : points)
+    {
+        if (mp->isBad())
+            continue;
+        Eigen::Vector3d pc;
+        Eigen::Vector2d uv;
+        if (!projectIntoImage(frame.T_cam_world, frame.camera, mp->position_world, pc, uv))
+            continue;
+        const Eigen::Vector3d ray = mp->position_world - centre;
+        const double dist = ray.norm();
+        if (dist < mp->minDistance() || dist > mp->maxDistance())
+            continue;
+        const double viewCos = ray.dot(mp->normal()) / dist;
+        if (viewCos < 0.5)
+            continue;
+        mp->increaseVisible();
+        const int level = mp->predictLevel(dist, pyr);
+        const double r =
+            radius * (viewCos > 0.998 ? 2.5 : 4.0) * pyr.scale[static_cast<size_t>(level)];
+        const double uR = uv.x() - frame.bf / pc.z();
+        int best = std::numeric_limits<int>::max(), second = best;
+        int bestLevel = -1, secondLevel = -1;
+        size_t bestIdx = 0;
+        for (size_t j : frame.grid.query(static_cast<float>(uv.x()), static_cast<float>(uv.y()),
+                                         static_cast<float>(r), level - 1, level))
+        {
+            if (!frame.usable(j) || alreadyMatched(frame.points[j]))
+                continue;
+            if (frame.features.hasDepth(j) && std::abs(uR - frame.features.rightU[j]) > r)
+                continue;
+            const int d =
+                features::descriptorDistance(mp->descriptor.data(), frame.features.descriptor(j));
+            if (d < best)
+            {
+                second = best;
+                secondLevel = bestLevel;
+                best = d;
+                bestLevel = frame.features.keypoints[j].octave;
+                bestIdx = j;
+            }
+            else if (d < second)
+            {
+                second = d;
+                secondLevel = frame.features.keypoints[j].octave;
+            }
+        }
+        if (best > kDescriptorHigh)
+            continue;
+        if (bestLevel == secondLevel && best > 0.8 * second)
+            continue;
+        if (!frame.points[bestIdx])
+            n++;
+        frame.points[bestIdx] = mp;
+        frame.outlier[bestIdx] = false;
+    }
+    return n;
+}
+
+int searchKeyFramePoints(Frame& frame, const KeyFrame& kf, double radius, int max_distance)
+{
+    const Eigen::Vector3d centre = frame.T_cam_world.inverse().translation();
+    const auto& pyr = frame.features.pyramid;
+    features::RotationConsistency rot;
+    int n = 0;
+    for (size_t i = 0; i < kf.points.size(); ++i)
+    {
+        const auto& mp = kf.points[i];
+        if (!mp || mp->isBad())
+            continue;
+        bool found = false;
+        for (const auto& fp : frame.points)
+            found = found || fp == mp;
+        if (found)
+            continue;
+        Eigen::Vector3d pc;
+        Eigen::Vector2d uv;
+        if (!projectIntoImage(frame.T_cam_world, frame.camera, mp->position_world, pc, uv))
+            continue;
+        const double dist = (mp->position_world - centre).norm();
+        if (dist < mp->minDistance() || dist > mp->maxDistance())
+            continue;
+        const int level = mp->predictLevel(dist, pyr);
+        const double r = radius * pyr.scale[static_cast<size_t>(level)];
+        int best = std::numeric_limits<int>::max();
+        size_t bestIdx = 0;
+        for (size_t j : frame.grid.query(static_cast<float>(uv.x()), static_cast<float>(uv.y()),
+                                         static_cast<float>(r), level - 1, level + 1))
+        {
+            if (!frame.usable(j) || frame.points[j])
+                continue;
+            const int d =
+                features::descriptorDistance(mp->descriptor.data(), frame.features.descriptor(j));
+            if (d < best)
+            {
+                best = d;
+                bestIdx = j;
+            }
+        }
+        if (best <= max_distance)
+        {
+            frame.points[bestIdx] = mp;
+            frame.outlier[bestIdx] = false;
+            n++;
+            rot.add(bestIdx, kf.features.keypoints[i].angle,
+                    frame.features.keypoints[bestIdx].angle);
+        }
+    }
+    rejectInconsistentRotations(frame, rot, n);
+    return n;
+}
+
+int fuse(KeyFrame& kf, const std::vector<std::shared_ptr<MapPoint>>& points, double radius)
+{
+    const Eigen::Isometry3d T = kf.T_cam_world();
+    const Eigen::Vector3d centre = kf.centre_world();
+    const auto& pyr = kf.features.pyramid;
+    int n = 0;
+    for (const auto& mp : points)
+    {
+        if (!mp || mp->isBad() || mp->isObservedBy(&kf))
+            continue;
+        Eigen::Vector3d pc;
+        Eigen::Vector2d uv;
+        if (!projectIntoImage(T, kf.camera, mp->position_world, pc, uv))
+            continue;
+        const Eigen::Vector3d ray = mp->position_world - centre;
+        const double dist = ray.norm();
+        if (dist < mp->minDistance() || dist > mp->maxDistance() ||
+            ray.dot(mp->normal()) < 0.5 * dist)
+            continue;
+        const int level = mp->predictLevel(dist, pyr);
+        const double r = radius * pyr.scale[static_cast<size_t>(level)];
+        const double uR = uv.x() - kf.bf / pc.z();
+        int best = std::numeric_limits<int>::max();
+        size_t bestIdx = 0;
+        for (size_t j : kf.grid.query(static_cast<float>(uv.x()), static_cast<float>(uv.y()),
+                                      static_cast<float>(r), level - 1, level))
+        {
+            if (kf.weights[j] <= 0.0F)
+                continue;
+            const double ex = uv.x() - kf.features.undistorted[j].x;
+            const double ey = uv.y() - kf.features.undistorted[j].y;
+            const double info = pyr.invSigma2[static_cast<size_t>(kf.features.keypoints[j].octave)];
+            double e2 = ex * ex + ey * ey;
+            double chi2 = kChi2Mono;
+            if (kf.features.hasDepth(j))
+            {
+                const double er = uR - kf.features.rightU[j];
+                e2 += er * er;
+                chi2 = kChi2Stereo;
+            }
+            if (e2 * info > chi2)
+                continue;
+            const int d =
+                features::descriptorDistance(mp->descriptor.data(), kf.features.descriptor(j));
+            if (d < best)
+            {
+                best = d;
+                bestIdx = j;
+            }
+        }
+        if (best > kDescriptorLow)
+            continue;
+        const std::shared_ptr<MapPoint> existing = kf.points[bestIdx];
+        if (existing && !existing->isBad())
+        {
+            if (existing->numObservations() >= mp->numObservations())
+                mp->replaceWith(existing);
+            else
+                existing->replaceWith(mp);
+        }
+        else
+        {
+            mp->addObservation(&kf, bestIdx);
+            kf.points[bestIdx] = mp;
+        }
+        n++;
+    }
+    return n;
+}
+}  // namespace smap::slam

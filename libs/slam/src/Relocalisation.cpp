@@ -1,0 +1,134 @@
+#include "smap/slam/Relocalisation.h"
+
+#include <algorithm>
+#include <opencv2/calib3d.hpp>
+#include <vector>
+
+#include "smap/features/DescriptorMatcher.h"
+#include "smap/features/RotationConsistency.h"
+#include "smap/slam/Map.h"
+#include "smap/slam/PoseOptimizer.h"
+#include "smap/slam/ProjectionSearch.h"
+
+namespace smap::slam
+{
+namespace
+{
+int removeOutliers(Frame& frame)
+{
+    int n = 0;
+    for (size_t i = 0; i < frame.size(); ++i)
+    {
+        if (frame.points[i] && frame.outlier[i])
+        {
+            frame.points[i].reset();
+            frame.outlier[i] = false;
+        }
+        if (frame.points[i])
+            n++;
+    }
+    return n;
+}
+
+int tryKeyFrame(Frame& frame, const KeyFrame& kf, const TrackerParameters& params)
+{
+    std::vector<size_t> kfRows, frameRows;
+    for (size_t i = 0; i < kf.points.size(); ++i)
+        if (kf.points[i] && !kf.points[i]->isBad())
+            kfRows.push_back(i);
+    for (size_t i = 0; i < frame.size(); ++i)
+        if (frame.usable(i))
+            frameRows.push_back(i);
+    if (kfRows.size() < 15 || frameRows.size() < 15)
+        return 0;
+    auto matches = features::matchWithRatioTest(frame.features.descriptors, kf.features.descriptors,
+                                                0.75F, kDescriptorHigh, frameRows, kfRows);
+    features::RotationConsistency rot;
+    for (size_t k = 0; k < matches.size(); ++k)
+        rot.add(k, kf.features.keypoints[matches[k].train].angle,
+                frame.features.keypoints[matches[k].query].angle);
+    std::vector<bool> drop(matches.size(), false);
+    for (size_t k : rot.inconsistent())
+        drop[k] = true;
+    std::vector<cv::Point3f> object;
+    std::vector<cv::Point2f> image;
+    std::vector<size_t> which;
+    for (size_t k = 0; k < matches.size(); ++k)
+    {
+        if (drop[k])
+            continue;
+        const auto& p = kf.points[matches[k].train]->position_world;
+        object.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()),
+                            static_cast<float>(p.z()));
+        image.push_back(frame.features.undistorted[matches[k].query]);
+        which.push_back(k);
+    }
+    if (object.size() < 15)
+        return 0;
+    cv::Mat rvec, tvec;
+    std::vector<int> inliers;
+    cv::Mat K = frame.camera.cameraMatrix();
+    const bool solved = cv::solvePnPRansac(object, image, K, cv::noArray(), rvec, tvec, false, 300,
+                                           4.0F, 0.99, inliers, cv::SOLVEPNP_EPNP);
+    if (!solved || inliers.size() < 10)
+        return 0;
+    cv::Mat R;
+    cv::Rodrigues(rvec, R);
+    frame.T_cam_world = Eigen::Isometry3d::Identity();
+    for (int r = 0; r < 3; ++r)
+    {
+        for (int c = 0; c < 3; ++c)
+            frame.T_cam_world.linear()(r, c) = R.at<double>(r, c);
+        frame.T_cam_world.translation()(r) = tvec.at<double>(r);
+    }
+    frame.clearMatches();
+    for (int k : inliers)
+    {
+        const auto& m = matches[which[static_cast<size_t>(k)]];
+        frame.points[m.query] = kf.points[m.train];
+    }
+    int good = optimizePose(frame, params.optimisation_rounds, params.optimisation_iterations);
+    if (good < 10)
+        return 0;
+    removeOutliers(frame);
+    const int wanted = params.min_inliers_after_relocalisation;
+    if (good < wanted)
+    {
+        const int more = searchKeyFramePoints(frame, kf, 10.0, kDescriptorHigh);
+        if (good + more >= wanted)
+        {
+            good = optimizePose(frame, params.optimisation_rounds, params.optimisation_iterations);
+            if (good > 30 && good < wanted)
+            {
+                searchKeyFramePoints(frame, kf, 3.0, 64);
+                good =
+                    optimizePose(frame, params.optimisation_rounds, params.optimisation_iterations);
+            }
+            removeOutliers(frame);
+        }
+    }
+    return good;
+}
+}  // namespace
+
+int relocaliseFrame(Frame& frame, Map& map, const TrackerParameters& params)
+{
+    std::vector<std::pair<double, KeyFrame*>> ranked;
+    for (const auto& [id, kf] : map.keyframes())
+        if (!kf->isBad())
+            ranked.emplace_back(-thumbnailSimilarity(frame.thumbnail, kf->thumbnail), kf.get());
+    std::stable_sort(ranked.begin(), ranked.end(),
+                     [](const auto& a, const auto& b) { return a.first < b.first; });
+    const size_t n = std::min(ranked.size(), static_cast<size_t>(params.relocalisation_candidates));
+    int best = 0;
+    for (size_t c = 0; c < n; ++c)
+    {
+        const int good = tryKeyFrame(frame, *ranked[c].second, params);
+        if (good >= params.min_inliers_after_relocalisation)
+            return good;
+        best = std::max(best, good);
+    }
+    frame.clearMatches();
+    return best;
+}
+}  // namespace smap::slam

@@ -1,0 +1,134 @@
+#include "smap/slam/RgbdSlam.h"
+
+#include <mrpt/math/CMatrixFixed.h>
+
+#include <chrono>
+
+#include "smap/features/OrbExtractor.h"
+#include "smap/slam/Map.h"
+
+namespace smap::slam
+{
+RgbdSlam::RgbdSlam(const features::OrbParameters& orb, const TrackerParameters& tracking,
+                   const LocalMappingParameters& mapping)
+    : COutputLogger("slam"),
+      orbParams_(orb),
+      trackingParams_(tracking),
+      extractor_(std::make_unique<features::OrbExtractor>(orb)),
+      map_(std::make_unique<Map>()),
+      mapper_(std::make_unique<LocalMapper>(*map_, mapping)),
+      tracker_(std::make_unique<Tracker>(*map_, *mapper_, tracking))
+{
+}
+
+RgbdSlam::~RgbdSlam()
+{
+    // The mapper's thread goes first: it references the map.
+    tracker_.reset();
+    mapper_.reset();
+}
+
+Frame RgbdSlam::prepare(const core::RgbdFrame& rgbd) const
+{
+    Frame f;
+    f.timestamp = rgbd.timestamp;
+    f.camera = rgbd.camera;
+    f.bf = trackingParams_.virtual_baseline * rgbd.camera.fx;
+    f.closeDepth = trackingParams_.close_depth;
+    f.features = extractor_->extract(rgbd.colour);
+    features::undistortKeypoints(f.features, rgbd.camera);
+    features::assignDepth(
+        f.features, rgbd.depth, f.bf, trackingParams_.min_depth, trackingParams_.max_depth,
+        trackingParams_.depth_edge_ratio > 0.0 ? trackingParams_.depth_edge_ratio : 1e9);
+    std::vector<int> levels;
+    levels.reserve(f.size());
+    for (const auto& kp : f.features.keypoints)
+        levels.push_back(kp.octave);
+    f.grid = features::FeatureGrid(f.features.undistorted, levels, rgbd.camera.width,
+                                   rgbd.camera.height);
+    f.weights.assign(f.size(), 1.0F);
+    f.clearMatches();
+    f.thumbnail = makeThumbnail(rgbd.colour);
+    return f;
+}
+
+TrackingResult RgbdSlam::track(Frame frame)
+{
+    frame.id = nextFrameId_++;
+    return tracker_->track(std::move(frame));
+}
+
+TrackingResult RgbdSlam::process(const core::RgbdFrame& rgbd, const cv::Mat& mask)
+{
+    const auto t0 = std::chrono::steady_clock::now();
+    Frame f = prepare(rgbd);
+    if (!mask.empty())
+        f.setMask(mask);
+    const double extraction =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    TrackingResult r = track(std::move(f));
+    r.timings.extraction_ms = extraction;
+    return r;
+}
+
+void RgbdSlam::finish()
+{
+    mapper_->waitUntilIdle();
+}
+
+core::Trajectory RgbdSlam::trajectory() const
+{
+    std::lock_guard<std::mutex> lock(map_->mutex());
+    core::Trajectory out;
+    for (const auto& r : tracker_->records())
+    {
+        if (!hasPose(r.status) || !r.reference)
+            continue;
+        const Eigen::Isometry3d T_cam_world =
+            r.T_cam_reference * r.reference->resolvedT_cam_world();
+        out.push_back({r.timestamp, toCPose3D(T_cam_world.inverse())});
+    }
+    return out;
+}
+
+core::Trajectory RgbdSlam::keyFrameTrajectory() const
+{
+    std::lock_guard<std::mutex> lock(map_->mutex());
+    core::Trajectory out;
+    for (const auto& [id, kf] : map_->keyframes())
+        if (!kf->isBad())
+            out.push_back({kf->timestamp(), toCPose3D(kf->T_cam_world().inverse())});
+    return out;
+}
+
+std::vector<Eigen::Vector3d> RgbdSlam::mapPointPositions() const
+{
+    std::lock_guard<std::mutex> lock(map_->mutex());
+    std::vector<Eigen::Vector3d> out;
+    for (const auto& [id, mp] : map_->points())
+        if (!mp->isBad())
+            out.push_back(mp->position_world);
+    return out;
+}
+
+size_t RgbdSlam::numKeyFrames() const
+{
+    std::lock_guard<std::mutex> lock(map_->mutex());
+    return map_->keyframes().size();
+}
+
+size_t RgbdSlam::numPoints() const
+{
+    std::lock_guard<std::mutex> lock(map_->mutex());
+    return map_->points().size();
+}
+
+mrpt::poses::CPose3D toCPose3D(const Eigen::Isometry3d& T)
+{
+    mrpt::math::CMatrixDouble44 M;
+    for (int r = 0; r < 4; ++r)
+        for (int c = 0; c < 4; ++c)
+            M(r, c) = T.matrix()(r, c);
+    return mrpt::poses::CPose3D(M);
+}
+}  // namespace smap::slam

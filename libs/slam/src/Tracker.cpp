@@ -1,0 +1,462 @@
+#include "smap/slam/Tracker.h"
+
+#include <algorithm>
+#include <chrono>
+#include <map>
+#include <set>
+
+#include "smap/features/DescriptorMatcher.h"
+#include "smap/features/RotationConsistency.h"
+#include "smap/slam/LocalMapper.h"
+#include "smap/slam/Map.h"
+#include "smap/slam/PoseOptimizer.h"
+#include "smap/slam/ProjectionSearch.h"
+#include "smap/slam/Relocalisation.h"
+
+namespace smap::slam
+{
+namespace
+{
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t0)
+{
+    return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+}  // namespace
+
+std::string toString(TrackingStatus s)
+{
+    switch (s)
+    {
+        case TrackingStatus::NotInitialised:
+            return "not_initialised";
+        case TrackingStatus::Initialised:
+            return "initialised";
+        case TrackingStatus::Ok:
+            return "ok";
+        case TrackingStatus::Relocalised:
+            return "relocalised";
+        case TrackingStatus::Lost:
+            return "lost";
+    }
+    return "unknown";
+}
+
+Tracker::Tracker(Map& map, LocalMapper& mapper, const TrackerParameters& params)
+    : COutputLogger("tracking"), map_(map), mapper_(mapper), params_(params)
+{
+}
+
+int Tracker::optimise(Frame& frame)
+{
+    const auto t0 = Clock::now();
+    const int n = optimizePose(frame, params_.optimisation_rounds, params_.optimisation_iterations);
+    timings_.optimisation_ms += msSince(t0);
+    return n;
+}
+
+int Tracker::discardOutliers(Frame& frame) const
+{
+    int inMap = 0;
+    for (size_t i = 0; i < frame.size(); ++i)
+    {
+        if (!frame.points[i])
+            continue;
+        if (frame.outlier[i])
+        {
+            frame.points[i].reset();
+            frame.outlier[i] = false;
+        }
+        else if (frame.points[i]->numObservations() > 0)
+        {
+            inMap++;
+        }
+    }
+    return inMap;
+}
+
+TrackingResult Tracker::track(Frame frame)
+{
+    const auto t0 = Clock::now();
+    timings_ = {};
+    TrackingResult result;
+    result.keypoints = static_cast<int>(frame.size());
+    if (frame.weights.size() != frame.size())
+        frame.setWeights({});
+    frame.clearMatches();
+    std::shared_ptr<KeyFrame> newKf;
+    {
+        std::lock_guard<std::mutex> lock(map_.mutex());
+        if (!initialised_)
+        {
+            if (initialise(frame))
+            {
+                result.status = TrackingStatus::Initialised;
+                newKf = reference_;
+            }
+        }
+        else
+        {
+            if (last_)
+                followReplacedPoints(*last_);
+            bool ok = false;
+            bool relocalised = false;
+            if (!lost_)
+            {
+                if (velocity_ && last_ && frame.id > lastRelocalisationFrameId_ + 1)
+                    ok = trackWithMotionModel(frame) || trackReferenceKeyFrame(frame);
+                else
+                    ok = trackReferenceKeyFrame(frame);
+            }
+            else
+            {
+                ok = relocalise(frame);
+                relocalised = ok;
+                if (ok)
+                    lastRelocalisationFrameId_ = frame.id;
+            }
+            if (ok)
+                ok = trackLocalMap(frame);
+            if (ok)
+            {
+                result.status = relocalised ? TrackingStatus::Relocalised : TrackingStatus::Ok;
+                if (last_ && !lost_)
+                    velocity_ = frame.T_cam_world * last_->T_cam_world.inverse();
+                else
+                    velocity_.reset();
+                if (needNewKeyFrame(frame))
+                    newKf = createKeyFrame(frame);
+                discardOutliers(frame);
+                lost_ = false;
+            }
+            else
+            {
+                if (!lost_)
+                    MRPT_LOG_WARN_FMT("tracking lost at frame %lu (t = %.3f)",
+                                      static_cast<unsigned long>(frame.id), frame.timestamp);
+                result.status = TrackingStatus::Lost;
+                velocity_.reset();
+                lost_ = true;
+            }
+            if (relocalised)
+                MRPT_LOG_INFO_FMT("relocalised at frame %lu", static_cast<unsigned long>(frame.id));
+        }
+        result.inliers = frame.countMatches();
+        FrameRecord rec;
+        rec.frameId = frame.id;
+        rec.timestamp = frame.timestamp;
+        rec.status = result.status;
+        if (hasPose(result.status) && reference_)
+        {
+            rec.reference = reference_;
+            rec.T_cam_reference = frame.T_cam_world * reference_->T_cam_world().inverse();
+            result.T_world_cam = frame.T_cam_world.inverse();
+        }
+        records_.push_back(rec);
+    }
+    result.newKeyFrame = newKf != nullptr;
+    last_ = std::move(frame);
+    // Outside the map lock: a synchronous local mapper processes the keyframe right here.
+    if (newKf)
+        mapper_.insertKeyFrame(newKf);
+    timings_.total_ms = msSince(t0);
+    timings_.matching_ms = std::max(0.0, timings_.total_ms - timings_.optimisation_ms);
+    result.timings = timings_;
+    return result;
+}
+
+bool Tracker::initialise(Frame& frame)
+{
+    int withDepth = 0;
+    for (size_t i = 0; i < frame.size(); ++i)
+        if (frame.usable(i) && frame.features.hasDepth(i))
+            withDepth++;
+    if (withDepth < params_.init_min_points)
+        return false;
+    frame.T_cam_world = Eigen::Isometry3d::Identity();
+    auto kf = map_.createKeyFrame(frame);
+    const Eigen::Isometry3d T_world_cam = frame.T_cam_world.inverse();
+    for (size_t i = 0; i < frame.size(); ++i)
+    {
+        if (!frame.usable(i) || !frame.features.hasDepth(i))
+            continue;
+        const auto& p = frame.features.undistorted[i];
+        auto mp = map_.createPoint(
+            T_world_cam * frame.camera.unproject(p.x, p.y, frame.features.depth[i]), kf.get());
+        mp->addObservation(kf.get(), i);
+        kf->points[i] = mp;
+        frame.points[i] = mp;
+        mp->computeDistinctiveDescriptor();
+        mp->updateNormalAndDepth();
+    }
+    reference_ = kf;
+    lastKeyFrameFrameId_ = frame.id;
+    initialised_ = true;
+    localKeyFrames_ = {kf.get()};
+    MRPT_LOG_INFO_FMT("map initialised at frame %lu with %zu points",
+                      static_cast<unsigned long>(frame.id), map_.points().size());
+    return true;
+}
+
+void Tracker::followReplacedPoints(Frame& frame) const
+{
+    for (auto& mp : frame.points)
+    {
+        while (mp && mp->replacement())
+            mp = mp->replacement();
+        if (mp && mp->isBad())
+            mp.reset();
+    }
+}
+
+bool Tracker::trackWithMotionModel(Frame& frame)
+{
+    frame.T_cam_world = *velocity_ * last_->T_cam_world;
+    frame.clearMatches();
+    int n = searchFromLastFrame(frame, *last_, params_.motion_search_radius);
+    if (n < params_.min_matches_motion)
+    {
+        frame.clearMatches();
+        n = searchFromLastFrame(frame, *last_, 2.0 * params_.motion_search_radius);
+    }
+    if (n < params_.min_matches_motion)
+        return false;
+    optimise(frame);
+    return discardOutliers(frame) >= 10;
+}
+
+bool Tracker::trackReferenceKeyFrame(Frame& frame)
+{
+    if (!reference_ || reference_->isBad() || !last_)
+        return false;
+    const KeyFrame& kf = *reference_;
+    std::vector<size_t> kfRows, frameRows;
+    for (size_t i = 0; i < kf.points.size(); ++i)
+        if (kf.points[i] && !kf.points[i]->isBad())
+            kfRows.push_back(i);
+    for (size_t i = 0; i < frame.size(); ++i)
+        if (frame.usable(i))
+            frameRows.push_back(i);
+    if (kfRows.empty() || frameRows.empty())
+        return false;
+    const auto matches =
+        features::matchWithRatioTest(frame.features.descriptors, kf.features.descriptors, 0.7F,
+                                     kDescriptorHigh, frameRows, kfRows);
+    features::RotationConsistency rot;
+    frame.clearMatches();
+    for (const auto& m : matches)
+    {
+        frame.points[m.query] = kf.points[m.train];
+        rot.add(m.query, kf.features.keypoints[m.train].angle,
+                frame.features.keypoints[m.query].angle);
+    }
+    int n = static_cast<int>(matches.size());
+    for (size_t i : rot.inconsistent())
+    {
+        frame.points[i].reset();
+        n--;
+    }
+    if (n < 15)
+        return false;
+    frame.T_cam_world = last_->T_cam_world;
+    optimise(frame);
+    return discardOutliers(frame) >= 10;
+}
+
+bool Tracker::relocalise(Frame& frame)
+{
+    frame.clearMatches();
+    const int inliers = relocaliseFrame(frame, map_, params_);
+    return inliers >= params_.min_inliers_after_relocalisation;
+}
+
+void Tracker::updateLocalMap(const Frame& frame)
+{
+    std::map<uint64_t, std::pair<KeyFrame*, int>> counts;
+    for (size_t i = 0; i < frame.size(); ++i)
+    {
+        const auto& mp = frame.points[i];
+        if (!mp || frame.outlier[i] || mp->isBad())
+            continue;
+        for (const auto& [kfId, o] : mp->observations())
+        {
+            auto& c = counts[kfId];
+            c.first = o.keyframe;
+            c.second++;
+        }
+    }
+    if (counts.empty())
+        return;
+    localKeyFrames_.clear();
+    std::set<uint64_t> inLocal;
+    int best = -1;
+    KeyFrame* bestKf = nullptr;
+    for (const auto& [id, c] : counts)
+    {
+        if (c.first->isBad())
+            continue;
+        localKeyFrames_.push_back(c.first);
+        inLocal.insert(id);
+        if (c.second > best)
+        {
+            best = c.second;
+            bestKf = c.first;
+        }
+    }
+    constexpr size_t kMaxLocal = 80;
+    const size_t nDirect = localKeyFrames_.size();
+    for (size_t k = 0; k < nDirect && localKeyFrames_.size() < kMaxLocal; ++k)
+        for (KeyFrame* n : localKeyFrames_[k]->bestCovisibles(10))
+            if (!n->isBad() && inLocal.insert(n->id()).second)
+                localKeyFrames_.push_back(n);
+    if (bestKf)
+        reference_ = map_.allKeyFrames().at(bestKf->id());
+    // Keyframes that saw this place earlier but share no tracked points (the camera came back
+    // after a detour): their points join the local map, so revisits match old points, fusion
+    // links old and new keyframes, and local BA pulls them together.
+    if (params_.revisit_radius > 0.0)
+    {
+        const Eigen::Isometry3d T_world_cam = frame.T_cam_world.inverse();
+        const Eigen::Vector3d centre = T_world_cam.translation();
+        const Eigen::Vector3d axis = T_world_cam.linear().col(2);
+        std::vector<std::pair<double, KeyFrame*>> near;
+        for (const auto& [id, kf] : map_.keyframes())
+        {
+            if (kf->isBad() || inLocal.count(id))
+                continue;
+            const Eigen::Isometry3d T_world_kf = kf->T_cam_world().inverse();
+            const double d = (T_world_kf.translation() - centre).norm();
+            if (d < params_.revisit_radius && T_world_kf.linear().col(2).dot(axis) > 0.8)
+                near.emplace_back(d, kf.get());
+        }
+        std::sort(near.begin(), near.end(),
+                  [](const auto& a, const auto& b) { return a.first < b.first; });
+        for (size_t k = 0; k < near.size() && k < 10; ++k)
+        {
+            inLocal.insert(near[k].second->id());
+            localKeyFrames_.push_back(near[k].second);
+        }
+    }
+
+    localPoints_.clear();
+    std::set<uint64_t> seen;
+    for (KeyFrame* kf : localKeyFrames_)
+        for (const auto& mp : kf->points)
+            if (mp && !mp->isBad() && seen.insert(mp->id()).second)
+                localPoints_.push_back(mp);
+}
+
+bool Tracker::trackLocalMap(Frame& frame)
+{
+    updateLocalMap(frame);
+    std::set<const MapPoint*> matched;
+    for (size_t i = 0; i < frame.size(); ++i)
+    {
+        if (frame.points[i] && !frame.outlier[i])
+        {
+            frame.points[i]->increaseVisible();
+            matched.insert(frame.points[i].get());
+        }
+    }
+    std::vector<std::shared_ptr<MapPoint>> candidates;
+    for (const auto& mp : localPoints_)
+        if (!matched.count(mp.get()))
+            candidates.push_back(mp);
+    const double radius =
+        frame.id < lastRelocalisationFrameId_ + 2 && lastRelocalisationFrameId_ > 0
+            ? 5.0
+            : params_.local_search_radius;
+    searchLocalPoints(frame, candidates, radius);
+    optimise(frame);
+    int inliers = 0;
+    for (size_t i = 0; i < frame.size(); ++i)
+    {
+        const auto& mp = frame.points[i];
+        if (!mp || frame.outlier[i])
+            continue;
+        mp->increaseFound();
+        if (mp->numObservations() > 0)
+            inliers++;
+    }
+    const bool recentlyRelocalised =
+        lastRelocalisationFrameId_ > 0 &&
+        frame.id < lastRelocalisationFrameId_ + static_cast<uint64_t>(params_.keyframe_max_frames);
+    if (recentlyRelocalised && inliers < params_.min_inliers_after_relocalisation)
+        return false;
+    return inliers >= params_.min_inliers;
+}
+
+bool Tracker::needNewKeyFrame(const Frame& frame) const
+{
+    const auto maxFrames = static_cast<uint64_t>(params_.keyframe_max_frames);
+    const size_t nKfs = map_.keyframes().size();
+    if (lastRelocalisationFrameId_ > 0 && frame.id < lastRelocalisationFrameId_ + maxFrames &&
+        nKfs > maxFrames)
+        return false;
+    // ORB-SLAM counts an RGB-D observation twice; in keyframes its thresholds are 1 and 2.
+    const int nMinObs = nKfs <= 2 ? 1 : 2;
+    const int refMatches = reference_ ? reference_->trackedPoints(nMinObs) : 0;
+    const bool idle = mapper_.idle();
+
+    int trackedClose = 0, untrackedClose = 0, inliers = 0;
+    for (size_t i = 0; i < frame.size(); ++i)
+    {
+        const bool tracked = frame.points[i] && !frame.outlier[i];
+        if (tracked)
+            inliers++;
+        const float z = frame.features.depth[i];
+        if (!frame.usable(i) || z <= 0.0F || z > frame.closeDepth)
+            continue;
+        (tracked ? trackedClose : untrackedClose)++;
+    }
+    const bool needClose = trackedClose < 100 && untrackedClose > 70;
+    const double refRatio = nKfs < 2 ? 0.4 : params_.keyframe_ref_ratio;
+    const bool c1a = frame.id >= lastKeyFrameFrameId_ + maxFrames;
+    const bool c1b = idle;
+    const bool c1c = inliers < 0.25 * refMatches || needClose;
+    const bool c2 = (inliers < refRatio * refMatches || needClose) && inliers > 15;
+    if (!((c1a || c1b || c1c) && c2))
+        return false;
+    if (idle)
+        return true;
+    mapper_.interruptBundleAdjustment();
+    return mapper_.queued() < 3;
+}
+
+std::shared_ptr<KeyFrame> Tracker::createKeyFrame(Frame& frame)
+{
+    auto kf = map_.createKeyFrame(frame);
+    // Tracked points (outliers included: bundle adjustment decides) ...
+    for (size_t i = 0; i < frame.size(); ++i)
+        kf->points[i] = frame.points[i];
+    // ... and new points from depth, nearest first: all close ones, at least 100.
+    std::vector<std::pair<float, size_t>> byDepth;
+    for (size_t i = 0; i < frame.size(); ++i)
+        if (frame.usable(i) && frame.features.hasDepth(i))
+            byDepth.emplace_back(frame.features.depth[i], i);
+    std::sort(byDepth.begin(), byDepth.end());
+    const Eigen::Isometry3d T_world_cam = frame.T_cam_world.inverse();
+    int n = 0;
+    for (const auto& [z, i] : byDepth)
+    {
+        const auto& existing = frame.points[i];
+        if (!existing || existing->numObservations() == 0)
+        {
+            const auto& p = frame.features.undistorted[i];
+            auto mp = map_.createPoint(T_world_cam * frame.camera.unproject(p.x, p.y, z), kf.get());
+            mp->addObservation(kf.get(), i);
+            kf->points[i] = mp;
+            frame.points[i] = mp;
+            frame.outlier[i] = false;
+            mp->computeDistinctiveDescriptor();
+            mp->updateNormalAndDepth();
+        }
+        n++;
+        if (z > frame.closeDepth && n > 100)
+            break;
+    }
+    reference_ = kf;
+    lastKeyFrameFrameId_ = frame.id;
+    return kf;
+}
+}  // namespace smap::slam

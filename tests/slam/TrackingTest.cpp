@@ -1,0 +1,170 @@
+// RGB-D tracking on rendered sequences with exact ground truth: accuracy, repeatability,
+// losing and relocalising across a blank stretch, and the outside feature mask.
+#include <gtest/gtest.h>
+#include <mrpt/config/CConfigFileMemory.h>
+
+#include "SyntheticSequence.h"
+#include "TestData.h"
+#include "smap/eval/AbsoluteTrajectoryError.h"
+#include "smap/slam/RgbdSlam.h"
+
+using namespace smap;
+
+namespace
+{
+slam::LocalMappingParameters deterministic()
+{
+    slam::LocalMappingParameters p;
+    p.threaded = false;
+    return p;
+}
+
+const test::RenderedSequence& staticXyz()
+{
+    // Rendered once for the whole suite (about 5 s).
+    static const test::RenderedSequence seq = test::renderSequence("static_xyz", 150);
+    return seq;
+}
+
+double ateRmse(const core::Trajectory& gt, const core::Trajectory& est)
+{
+    return eval::computeAte(gt, est).translation.rmse;
+}
+}  // namespace
+
+TEST(RgbdSlam, StaticSequenceIsTrackedToBetterThanOneCentimetre)
+{
+    const auto& seq = staticXyz();
+    slam::RgbdSlam slam(features::OrbParameters{}, slam::TrackerParameters{}, deterministic());
+    int withPose = 0;
+    for (const auto& f : seq.frames)
+        withPose += slam::hasPose(slam.process(f).status) ? 1 : 0;
+    slam.finish();
+    EXPECT_EQ(withPose, static_cast<int>(seq.frames.size()));
+    const auto traj = slam.trajectory();
+    ASSERT_EQ(traj.size(), seq.frames.size());
+    const double rmse = ateRmse(seq.groundTruth, traj);
+    EXPECT_LT(rmse, 0.01);
+    EXPECT_GT(slam.numKeyFrames(), 1U);
+    EXPECT_GT(slam.numPoints(), 200U);
+    // Keyframe trajectory is a subset of the frames' and as accurate.
+    const auto kfs = slam.keyFrameTrajectory();
+    ASSERT_GE(kfs.size(), 2U);
+    EXPECT_LT(ateRmse(seq.groundTruth, kfs), 0.01);
+}
+
+TEST(RgbdSlam, DeterministicModeGivesIdenticalTrajectories)
+{
+    const auto& seq = staticXyz();
+    std::vector<core::Trajectory> runs;
+    for (int r = 0; r < 2; ++r)
+    {
+        slam::RgbdSlam slam(features::OrbParameters{}, slam::TrackerParameters{}, deterministic());
+        for (size_t i = 0; i < 60; ++i)
+            slam.process(seq.frames[i]);
+        runs.push_back(slam.trajectory());
+    }
+    ASSERT_EQ(runs[0].size(), runs[1].size());
+    for (size_t i = 0; i < runs[0].size(); ++i)
+        EXPECT_EQ(runs[0][i].T_world_cam.asString(), runs[1][i].T_world_cam.asString()) << i;
+}
+
+TEST(RgbdSlam, ThreadedLocalMappingTracksAsWell)
+{
+    const auto& seq = staticXyz();
+    slam::LocalMappingParameters p;
+    p.threaded = true;
+    slam::RgbdSlam slam(features::OrbParameters{}, slam::TrackerParameters{}, p);
+    for (const auto& f : seq.frames)
+        slam.process(f);
+    slam.finish();
+    EXPECT_EQ(slam.trajectory().size(), seq.frames.size());
+    EXPECT_LT(ateRmse(seq.groundTruth, slam.trajectory()), 0.015);
+}
+
+// Frames 50..69 are blank (flat grey, no depth): tracking must report them lost without a
+// pose, then relocalise when the view returns and stay accurate.
+TEST(RgbdSlam, BlankStretchIsLostThenRelocalised)
+{
+    const auto& seq = staticXyz();
+    slam::RgbdSlam slam(features::OrbParameters{}, slam::TrackerParameters{}, deterministic());
+    std::vector<slam::TrackingStatus> status;
+    for (size_t i = 0; i < seq.frames.size(); ++i)
+    {
+        core::RgbdFrame f = seq.frames[i];
+        if (i >= 50 && i < 70)
+        {
+            f.colour = cv::Mat(f.colour.size(), CV_8UC3, cv::Scalar(120, 120, 120));
+            f.depth = cv::Mat::zeros(f.depth.size(), CV_32FC1);
+        }
+        status.push_back(slam.process(f).status);
+    }
+    slam.finish();
+    for (size_t i = 50; i < 70; ++i)
+        EXPECT_EQ(status[i], slam::TrackingStatus::Lost) << i;
+    size_t firstBack = 0;
+    for (size_t i = 70; i < status.size() && firstBack == 0; ++i)
+        if (status[i] == slam::TrackingStatus::Relocalised)
+            firstBack = i;
+    ASSERT_GT(firstBack, 0U) << "never relocalised";
+    EXPECT_LT(firstBack, 100U);
+    for (size_t i = firstBack + 1; i < status.size(); ++i)
+        EXPECT_EQ(status[i], slam::TrackingStatus::Ok) << i;
+    const auto traj = slam.trajectory();
+    EXPECT_EQ(traj.size(), seq.frames.size() - 20 - (firstBack - 70));
+    EXPECT_LT(ateRmse(seq.groundTruth, traj), 0.015);
+}
+
+TEST(RgbdSlam, TexturelessStartWaitsThenInitialises)
+{
+    const auto& seq = staticXyz();
+    slam::RgbdSlam slam(features::OrbParameters{}, slam::TrackerParameters{}, deterministic());
+    core::RgbdFrame blank = seq.frames[0];
+    blank.colour = cv::Mat(blank.colour.size(), CV_8UC3, cv::Scalar(0, 0, 0));
+    EXPECT_EQ(slam.process(blank).status, slam::TrackingStatus::NotInitialised);
+    EXPECT_EQ(slam.process(seq.frames[1]).status, slam::TrackingStatus::Initialised);
+    EXPECT_EQ(slam.process(seq.frames[2]).status, slam::TrackingStatus::Ok);
+}
+
+// The tracker's outside mask: features under a zero mask never become or match map points.
+TEST(RgbdSlam, MaskedFeaturesNeverEnterTheMap)
+{
+    const auto& seq = staticXyz();
+    slam::RgbdSlam slam(features::OrbParameters{}, slam::TrackerParameters{}, deterministic());
+    const auto& cam = seq.frames[0].camera;
+    cv::Mat mask(cam.height, cam.width, CV_8UC1, cv::Scalar(255));
+    mask(cv::Rect(0, 0, cam.width / 2, cam.height)).setTo(0);  // left half masked out
+    const auto r = slam.process(seq.frames[0], mask);
+    ASSERT_EQ(r.status, slam::TrackingStatus::Initialised);
+    // Every map point projects into the right half of the first (world) camera.
+    const auto pts = slam.mapPointPositions();
+    ASSERT_GT(pts.size(), 100U);
+    for (const auto& p : pts)
+        EXPECT_GE(cam.project(p).x(), cam.width / 2 - 1.0);
+
+    // All weights zero: nothing to initialise from.
+    slam::RgbdSlam slam2(features::OrbParameters{}, slam::TrackerParameters{}, deterministic());
+    auto f = slam2.prepare(seq.frames[0]);
+    f.setWeights(std::vector<float>(f.size(), 0.0F));
+    EXPECT_EQ(slam2.track(std::move(f)).status, slam::TrackingStatus::NotInitialised);
+    EXPECT_TRUE(slam2.mapPointPositions().empty());
+
+    auto g = slam2.prepare(seq.frames[0]);
+    EXPECT_THROW(g.setWeights(std::vector<float>(3, 1.0F)), std::invalid_argument);
+    EXPECT_THROW(g.setWeights(std::vector<float>(g.size(), 1.5F)), std::invalid_argument);
+}
+
+TEST(SlamParameters, InvalidValuesNameTheKey)
+{
+    mrpt::config::CConfigFileMemory cfg;
+    cfg.write("tracking", "max_depth", 0.05);
+    slam::TrackerParameters t;
+    EXPECT_NE(test::inputErrorOf([&] { t.loadFromConfigFile(cfg, ""); }).find("max_depth"),
+              std::string::npos);
+    mrpt::config::CConfigFileMemory cfg2;
+    cfg2.write("local_mapping", "keyframe_redundancy", 1.5);
+    slam::LocalMappingParameters m;
+    EXPECT_NE(
+        test::inputErrorOf([&] { m.loadFromConfigFile(cfg2, ""); }).find("keyframe_redundancy"),
+        std::string::npos);
+}
