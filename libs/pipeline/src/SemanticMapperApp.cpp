@@ -4,15 +4,19 @@
 #include <mrpt/core/format.h>
 #include <mrpt/system/CTicTac.h>
 
+#include <algorithm>
 #include <filesystem>
 
 #include "smap/core/AtomicFile.h"
 #include "smap/core/InputError.h"
 #include "smap/core/JsonWriter.h"
+#include "smap/features/OrbParameters.h"
 #include "smap/io/FrameSource.h"
+#include "smap/io/TumTextFormats.h"
 #include "smap/pipeline/AppConfiguration.h"
 #include "smap/pipeline/CommandLine.h"
 #include "smap/pipeline/FrameSummary.h"
+#include "smap/slam/RgbdSlam.h"
 
 namespace fs = std::filesystem;
 
@@ -44,7 +48,9 @@ std::string SemanticMapperApp::usage()
            "  --quiet      only warnings and errors\n"
            "  --help       this text\n"
            "\n"
-           "Outputs in DIR: summary.json, frames.csv, config-effective.ini.\n"
+           "Outputs in DIR: trajectory.txt (TUM, every tracked frame), keyframes.txt,\n"
+           "               frames.csv (per-frame status and timings), summary.json,\n"
+           "               config-effective.ini.\n"
            "Exit codes: 0 ok, 1 internal error, 2 bad input (arguments, configuration, data).\n";
 }
 
@@ -71,7 +77,10 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
 
     // Configuration: file, then --set overrides; every component loads its parameters once.
     io::FrameSourceParameters sourceParams;
-    loadAppConfiguration(cl, {&sourceParams});
+    features::OrbParameters orbParams;
+    slam::TrackerParameters trackingParams;
+    slam::LocalMappingParameters mappingParams;
+    loadAppConfiguration(cl, {&sourceParams, &orbParams, &trackingParams, &mappingParams});
 
     auto source = io::openFrameSource(input, sourceParams);
     source->setMinLoggingLevel(getMinLoggingLevel());
@@ -80,7 +89,10 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
 
     {
         mrpt::config::CConfigFileMemory effective;
-        sourceParams.saveToConfigFile(effective, "");
+        for (const mrpt::config::CLoadableOptions* p :
+             std::vector<const mrpt::config::CLoadableOptions*>{&sourceParams, &orbParams,
+                                                                &trackingParams, &mappingParams})
+            p->saveToConfigFile(effective, "");
         core::AtomicTextFile f((fs::path(outDir) / "config-effective.ini").string());
         f.stream() << "# effective configuration of semantic-mapper (defaults, --config, --set)\n"
                    << effective.getContent();
@@ -88,7 +100,13 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
     }
 
     core::AtomicTextFile csv((fs::path(outDir) / "frames.csv").string());
-    csv.stream() << frameStatsCsvHeader() << "\n";
+    csv.stream() << frameStatsCsvHeader()
+                 << ",status,keypoints,inliers,keyframe,extraction_ms,matching_ms,"
+                    "optimisation_ms,tracking_ms\n";
+    slam::RgbdSlam slam(orbParams, trackingParams, mappingParams);
+    slam.setMinLoggingLevel(getMinLoggingLevel());
+    std::vector<double> trackingMs, extractionMs;
+    size_t tracked = 0, lost = 0, relocalised = 0;
     mrpt::system::CTicTac timer;
     double lastReport = 0.0, sumValid = 0.0;
     const auto total = source->sizeHint();
@@ -99,7 +117,18 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
     {
         frame->validate();
         const FrameStats s = computeFrameStats(*frame);
-        csv.stream() << toCsvRow(s) << "\n";
+        const slam::TrackingResult tr = slam.process(*frame);
+        tracked += slam::hasPose(tr.status) ? 1 : 0;
+        lost += tr.status == slam::TrackingStatus::Lost ? 1 : 0;
+        relocalised += tr.status == slam::TrackingStatus::Relocalised ? 1 : 0;
+        trackingMs.push_back(tr.timings.total_ms);
+        extractionMs.push_back(tr.timings.extraction_ms);
+        csv.stream() << toCsvRow(s) << "," << slam::toString(tr.status) << "," << tr.keypoints
+                     << "," << tr.inliers << "," << (tr.newKeyFrame ? 1 : 0) << ","
+                     << mrpt::format("%.3f,%.3f,%.3f,%.3f", tr.timings.extraction_ms,
+                                     tr.timings.matching_ms, tr.timings.optimisation_ms,
+                                     tr.timings.total_ms)
+                     << "\n";
         if (n == 0)
         {
             firstStamp = frame->timestamp;
@@ -114,14 +143,29 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
             lastReport = t;
             const double fps = n / t;
             if (total)
-                MRPT_LOG_INFO_FMT("frame %zu / %zu  %.1f frames/s  ETA %.0f s", n, *total, fps,
-                                  (*total - n) / fps);
+                MRPT_LOG_INFO_FMT("frame %zu / %zu  %.1f frames/s  ETA %.0f s  (%zu lost)", n,
+                                  *total, fps, (*total - n) / fps, lost);
             else
-                MRPT_LOG_INFO_FMT("frame %zu  %.1f frames/s", n, fps);
+                MRPT_LOG_INFO_FMT("frame %zu  %.1f frames/s  (%zu lost)", n, fps, lost);
         }
     }
+    slam.finish();
     csv.commit();
     const double elapsed = timer.Tac();
+    const core::Trajectory trajectory = slam.trajectory();
+    io::writeTumTrajectory((fs::path(outDir) / "trajectory.txt").string(), trajectory,
+                           "camera (optical frame) poses of every tracked frame, world = first "
+                           "tracked camera");
+    io::writeTumTrajectory((fs::path(outDir) / "keyframes.txt").string(), slam.keyFrameTrajectory(),
+                           "keyframe poses after local BA");
+    auto median = [](std::vector<double> v)
+    {
+        if (v.empty())
+            return 0.0;
+        std::nth_element(v.begin(), v.begin() + static_cast<long>(v.size() / 2), v.end());
+        return v[v.size() / 2];
+    };
+    const auto mapStats = slam.mappingStats();
 
     auto cam = core::JsonValue::object();
     cam.set("width", camera.width)
@@ -141,6 +185,18 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
     summary.set("mean_valid_depth_fraction", n ? sumValid / n : 0.0);
     summary.set("camera", cam);
     summary.set("ground_truth", source->groundTruthPath());
+    auto tracking = core::JsonValue::object();
+    tracking.set("frames_with_pose", static_cast<uint64_t>(tracked))
+        .set("frames_lost", static_cast<uint64_t>(lost))
+        .set("relocalisations", static_cast<uint64_t>(relocalised))
+        .set("keyframes", static_cast<uint64_t>(slam.numKeyFrames()))
+        .set("keyframes_culled", static_cast<uint64_t>(mapStats.keyframesCulled))
+        .set("map_points", static_cast<uint64_t>(slam.numPoints()))
+        .set("median_extraction_ms", median(extractionMs))
+        .set("median_tracking_ms", median(trackingMs))
+        .set("local_ba_runs", static_cast<uint64_t>(mapStats.baRuns))
+        .set("local_mapping_s", mapStats.totalSeconds);
+    summary.set("tracking", tracking);
     summary.set("processing_time_s", elapsed)
         .set("frames_per_second", elapsed > 0 ? n / elapsed : 0.0);
     {
@@ -150,11 +206,14 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
     }
 
     result_ = {n, outDir, input};
-    MRPT_LOG_INFO_FMT("%zu frames in %.2f s (%.1f frames/s)", n, elapsed,
-                      elapsed > 0 ? n / elapsed : 0.0);
-    out << "semantic-mapper: " << n << " frames from " << input << "\n"
+    MRPT_LOG_INFO_FMT(
+        "%zu frames in %.2f s (%.1f frames/s): %zu with a pose, %zu lost, %zu "
+        "keyframes, %zu map points",
+        n, elapsed, elapsed > 0 ? n / elapsed : 0.0, tracked, lost, slam.numKeyFrames(),
+        slam.numPoints());
+    out << "semantic-mapper: " << n << " frames from " << input << ", " << tracked << " tracked\n"
         << "outputs in " << fs::absolute(outDir).string()
-        << "/: summary.json, frames.csv, config-effective.ini\n";
+        << "/: trajectory.txt, keyframes.txt, summary.json, frames.csv, config-effective.ini\n";
     return kExitOk;
 }
 }  // namespace smap::pipeline
