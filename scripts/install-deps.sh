@@ -7,7 +7,7 @@ packages=(
     # toolchain
     g++ cmake ninja-build ccache pkg-config
     # libraries
-    libmrpt-dev libopencv-dev libeigen3-dev libgtest-dev libgmock-dev libbenchmark-dev zlib1g-dev
+    libmrpt-dev libopencv-dev libeigen3-dev libceres-dev libgtest-dev libgmock-dev libbenchmark-dev zlib1g-dev
     # MRPT's sample recordings (tests_rgbd.rawlog is the embedded default input)
     mrpt-common
     # headless OpenGL (EGL on Mesa) for the synthetic renderer

@@ -19,7 +19,8 @@ FeatureGrid::FeatureGrid(std::vector<cv::Point2f> points, std::vector<int> level
     {
         const int cx = std::clamp(static_cast<int>(points_[i].x * invCell_), 0, cols_ - 1);
         const int cy = std::clamp(static_cast<int>(points_[i].y * invCell_), 0, rows_ - 1);
-        cells_[static_cast<size_t>(cy * cols_ + cx)].push_back(i);
+        cells_[static_cast<size_t>(cy) * static_cast<size_t>(cols_) + static_cast<size_t>(cx)]
+            .push_back(i);
     }
 }
 
@@ -37,7 +38,8 @@ std::vector<size_t> FeatureGrid::query(float u, float v, float radius, int min_l
     {
         for (int cx = x0; cx <= x1; ++cx)
         {
-            for (size_t i : cells_[static_cast<size_t>(cy * cols_ + cx)])
+            for (size_t i : cells_[static_cast<size_t>(cy) * static_cast<size_t>(cols_) +
+                                   static_cast<size_t>(cx)])
             {
                 const cv::Point2f& p = points_[i];
                 if (std::abs(p.x - u) > radius || std::abs(p.y - v) > radius)

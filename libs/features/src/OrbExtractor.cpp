@@ -185,7 +185,8 @@ void OrbExtractor::describe(const cv::Mat& blurred, const cv::KeyPoint& kp_level
         uint8_t value = 0;
         for (int bit = 0; bit < 8; ++bit)
         {
-            const SamplePair& s = pattern_[static_cast<size_t>(byte * 8 + bit)];
+            const SamplePair& s =
+                pattern_[static_cast<size_t>(byte) * 8 + static_cast<size_t>(bit)];
             if (sample(s.x1, s.y1) < sample(s.x2, s.y2))
                 value = static_cast<uint8_t>(value | (1U << bit));
         }

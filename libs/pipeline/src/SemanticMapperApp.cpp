@@ -104,7 +104,7 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
                  << ",status,keypoints,inliers,keyframe,extraction_ms,matching_ms,"
                     "optimisation_ms,tracking_ms\n";
     slam::RgbdSlam slam(orbParams, trackingParams, mappingParams);
-    slam.setMinLoggingLevel(getMinLoggingLevel());
+    slam.setLoggingLevel(getMinLoggingLevel());
     std::vector<double> trackingMs, extractionMs;
     size_t tracked = 0, lost = 0, relocalised = 0;
     mrpt::system::CTicTac timer;

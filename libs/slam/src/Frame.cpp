@@ -42,6 +42,15 @@ void Frame::setMask(const cv::Mat& mask)
     }
 }
 
+std::vector<size_t> Frame::usableKeypoints() const
+{
+    std::vector<size_t> out;
+    for (size_t i = 0; i < size(); ++i)
+        if (usable(i))
+            out.push_back(i);
+    return out;
+}
+
 void Frame::clearMatches()
 {
     points.assign(size(), nullptr);

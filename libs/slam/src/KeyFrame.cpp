@@ -22,6 +22,15 @@ KeyFrame::KeyFrame(uint64_t id, const Frame& frame)
 {
 }
 
+std::vector<size_t> KeyFrame::keypointsWithPoints() const
+{
+    std::vector<size_t> out;
+    for (size_t i = 0; i < points.size(); ++i)
+        if (points[i] && !points[i]->isBad())
+            out.push_back(i);
+    return out;
+}
+
 int KeyFrame::trackedPoints(int min_observations) const
 {
     int n = 0;

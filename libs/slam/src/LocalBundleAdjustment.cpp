@@ -69,7 +69,7 @@ LocalBundleAdjustmentStats localBundleAdjustment(const std::shared_ptr<KeyFrame>
             kfs.push_back(b);
         };
         addKf(keyframe.get(), false);
-        for (KeyFrame* kf : keyframe->bestCovisibles())
+        for (KeyFrame* kf : keyframe->bestCovisibles(params.ba_max_keyframes - 1))
             if (!kf->isBad())
                 addKf(kf, false);
         const size_t nLocal = kfs.size();

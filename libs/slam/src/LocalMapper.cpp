@@ -131,6 +131,10 @@ void LocalMapper::process(const std::shared_ptr<KeyFrame>& kf)
         map_.removeBad();
     }
     std::lock_guard<std::mutex> lock(queueMutex_);
+    stats_.pointsCulled += pending_.pointsCulled;
+    stats_.pointsFused += pending_.pointsFused;
+    stats_.keyframesCulled += pending_.keyframesCulled;
+    pending_ = {};
     stats_.keyframesProcessed++;
     if (ba.keyframes > 0)
     {
@@ -176,24 +180,18 @@ void LocalMapper::cullRecentPoints(const KeyFrame& kf)
     {
         const auto& mp = *it;
         const uint64_t age = kf.id() - mp->firstKeyFrameId();
-        if (mp->isBad())
-        {
-            it = recentPoints_.erase(it);
-        }
-        else if (mp->foundRatio() < 0.25 || (age >= 2 && mp->numObservations() < 2))
+        const bool weak =
+            !mp->isBad() && (mp->foundRatio() < 0.25 || (age >= 2 && mp->numObservations() < 2));
+        if (weak)
         {
             mp->setBad();
-            stats_.pointsCulled++;
-            it = recentPoints_.erase(it);
+            pending_.pointsCulled++;
         }
-        else if (age >= 3)
-        {
+        // Bad, culled, or old enough to have proven itself: no longer "recent".
+        if (mp->isBad() || age >= 3)
             it = recentPoints_.erase(it);
-        }
         else
-        {
             ++it;
-        }
     }
 }
 
@@ -237,7 +235,7 @@ void LocalMapper::fuseWithNeighbours(const std::shared_ptr<KeyFrame>& kf)
         }
     }
     kf->updateConnections(params_.covisibility_min_weight);
-    stats_.pointsFused += fused;
+    pending_.pointsFused += fused;
 }
 
 void LocalMapper::cullKeyFrames(const KeyFrame& kf)
@@ -286,7 +284,7 @@ void LocalMapper::cullKeyFrames(const KeyFrame& kf)
             if (!parent)
                 continue;
             k->setBad(parent);
-            stats_.keyframesCulled++;
+            pending_.keyframesCulled++;
         }
     }
 }

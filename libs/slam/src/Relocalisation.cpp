@@ -32,13 +32,8 @@ int removeOutliers(Frame& frame)
 
 int tryKeyFrame(Frame& frame, const KeyFrame& kf, const TrackerParameters& params)
 {
-    std::vector<size_t> kfRows, frameRows;
-    for (size_t i = 0; i < kf.points.size(); ++i)
-        if (kf.points[i] && !kf.points[i]->isBad())
-            kfRows.push_back(i);
-    for (size_t i = 0; i < frame.size(); ++i)
-        if (frame.usable(i))
-            frameRows.push_back(i);
+    const std::vector<size_t> kfRows = kf.keypointsWithPoints(),
+                              frameRows = frame.usableKeypoints();
     if (kfRows.size() < 15 || frameRows.size() < 15)
         return 0;
     auto matches = features::matchWithRatioTest(frame.features.descriptors, kf.features.descriptors,

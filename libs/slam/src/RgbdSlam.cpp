@@ -71,6 +71,13 @@ TrackingResult RgbdSlam::process(const core::RgbdFrame& rgbd, const cv::Mat& mas
     return r;
 }
 
+void RgbdSlam::setLoggingLevel(mrpt::system::VerbosityLevel level)
+{
+    setMinLoggingLevel(level);
+    tracker_->setMinLoggingLevel(level);
+    mapper_->setMinLoggingLevel(level);
+}
+
 void RgbdSlam::finish()
 {
     mapper_->waitUntilIdle();

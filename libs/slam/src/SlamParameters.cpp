@@ -90,6 +90,7 @@ void LocalMappingParameters::loadFromConfigFile(const mrpt::config::CConfigFileB
 {
     const char* s = "local_mapping";
     threaded = cfg.read_bool(s, "threaded", threaded);
+    ba_max_keyframes = cfg.read_int(s, "ba_max_keyframes", ba_max_keyframes);
     ba_iterations = cfg.read_int(s, "ba_iterations", ba_iterations);
     ba_refine_iterations = cfg.read_int(s, "ba_refine_iterations", ba_refine_iterations);
     covisibility_min_weight = cfg.read_int(s, "covisibility_min_weight", covisibility_min_weight);
@@ -99,6 +100,9 @@ void LocalMappingParameters::loadFromConfigFile(const mrpt::config::CConfigFileB
         throw core::InputError(mrpt::format(
             "[local_mapping] ba_iterations = %d and ba_refine_iterations = %d must be >= 0",
             ba_iterations, ba_refine_iterations));
+    if (ba_max_keyframes < 2)
+        throw core::InputError(
+            mrpt::format("[local_mapping] ba_max_keyframes = %d must be >= 2", ba_max_keyframes));
     requirePositive(covisibility_min_weight, s, "covisibility_min_weight");
     if (fuse_neighbours < 0)
         throw core::InputError(
@@ -113,6 +117,7 @@ void LocalMappingParameters::saveToConfigFile(mrpt::config::CConfigFileBase& cfg
 {
     const char* s = "local_mapping";
     cfg.write(s, "threaded", threaded);
+    cfg.write(s, "ba_max_keyframes", ba_max_keyframes);
     cfg.write(s, "ba_iterations", ba_iterations);
     cfg.write(s, "ba_refine_iterations", ba_refine_iterations);
     cfg.write(s, "covisibility_min_weight", covisibility_min_weight);

@@ -156,12 +156,13 @@ TrackingResult Tracker::track(Frame frame)
     }
     result.newKeyFrame = newKf != nullptr;
     last_ = std::move(frame);
-    // Outside the map lock: a synchronous local mapper processes the keyframe right here.
-    if (newKf)
-        mapper_.insertKeyFrame(newKf);
     timings_.total_ms = msSince(t0);
     timings_.matching_ms = std::max(0.0, timings_.total_ms - timings_.optimisation_ms);
     result.timings = timings_;
+    // Outside the map lock: a synchronous local mapper processes the keyframe right here
+    // (its time is local mapping's, reported by LocalMapper::stats(), not tracking's).
+    if (newKf)
+        mapper_.insertKeyFrame(newKf);
     return result;
 }
 
@@ -230,13 +231,8 @@ bool Tracker::trackReferenceKeyFrame(Frame& frame)
     if (!reference_ || reference_->isBad() || !last_)
         return false;
     const KeyFrame& kf = *reference_;
-    std::vector<size_t> kfRows, frameRows;
-    for (size_t i = 0; i < kf.points.size(); ++i)
-        if (kf.points[i] && !kf.points[i]->isBad())
-            kfRows.push_back(i);
-    for (size_t i = 0; i < frame.size(); ++i)
-        if (frame.usable(i))
-            frameRows.push_back(i);
+    const std::vector<size_t> kfRows = kf.keypointsWithPoints(),
+                              frameRows = frame.usableKeypoints();
     if (kfRows.empty() || frameRows.empty())
         return false;
     const auto matches =

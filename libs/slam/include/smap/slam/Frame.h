@@ -34,6 +34,8 @@ struct Frame
 
     size_t size() const { return features.size(); }
     bool usable(size_t i) const { return weights[i] > 0.0F; }
+    /// Indices of the keypoints with weight > 0.
+    std::vector<size_t> usableKeypoints() const;
     /// Sets per-keypoint weights; an empty vector means all 1. Throws std::invalid_argument
     /// when the size does not match or a weight is outside [0, 1].
     void setWeights(const std::vector<float>& w);
@@ -44,7 +46,7 @@ struct Frame
 };
 
 /// Small normalised image used to rank keyframes for relocalisation.
-cv::Mat makeThumbnail(const cv::Mat& colour_or_grey);
+cv::Mat makeThumbnail(const cv::Mat& image);
 /// Zero-mean normalised cross-correlation of two thumbnails, in [-1, 1].
 double thumbnailSimilarity(const cv::Mat& a, const cv::Mat& b);
 }  // namespace smap::slam

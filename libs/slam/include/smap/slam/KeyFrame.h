@@ -38,6 +38,8 @@ public:
     void setPose(const Eigen::Isometry3d& T_cam_world) { T_cam_world_ = T_cam_world; }
     Eigen::Vector3d centre_world() const { return T_cam_world_.inverse().translation(); }
 
+    /// Indices of the keypoints that carry a (not bad) map point.
+    std::vector<size_t> keypointsWithPoints() const;
     /// Map points observed (not bad) with at least `min_observations` observations.
     int trackedPoints(int min_observations) const;
 

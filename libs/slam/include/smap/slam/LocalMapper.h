@@ -73,7 +73,8 @@ private:
     bool busy_ = false;
     bool stop_ = false;
     std::atomic<bool> abortBa_{false};
-    Stats stats_;
+    Stats stats_;    // guarded by queueMutex_
+    Stats pending_;  // counted by the worker under the map mutex, merged into stats_
     std::unique_ptr<std::thread> thread_;
 };
 }  // namespace smap::slam

@@ -42,6 +42,9 @@ public:
     /// prepare + track, with an optional CV_8UC1 mask (0 = do not use features there).
     TrackingResult process(const core::RgbdFrame& rgbd, const cv::Mat& mask = {});
 
+    /// Minimum level logged by this object, tracking and local mapping.
+    void setLoggingLevel(mrpt::system::VerbosityLevel level);
+
     /// Waits for local mapping to finish the queued keyframes (call at the end of a run).
     void finish();
 

@@ -1,0 +1,111 @@
+// Tracking speed on a real 640x480 sequence (default ../shared/data/7scenes-redkitchen): runs
+// the whole sequence through RgbdSlam (tracking in this thread, local mapping in its own, as
+// the app does) several times and prints the median per-frame tracking time with its
+// breakdown (extraction, matching, optimisation), and frames/s of the whole run (reading and
+// decoding included). A timing program, not a test: see docs/benchmarks.md.
+//
+// Usage: bench_tracking [TUM_DIR] [--config FILE] [--runs N] [--max-frames N] [--sync]
+#include <mrpt/config/CConfigFileMemory.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "smap/core/TrackedConfig.h"
+#include "smap/io/FrameSource.h"
+#include "smap/slam/RgbdSlam.h"
+
+using namespace smap;
+
+namespace
+{
+double median(std::vector<double> v)
+{
+    if (v.empty())
+        return 0.0;
+    std::nth_element(v.begin(), v.begin() + static_cast<long>(v.size() / 2), v.end());
+    return v[v.size() / 2];
+}
+}  // namespace
+
+int main(int argc, char** argv)
+{
+    std::string input = std::string(SMAP_SHARED_DIR) + "/data/7scenes-redkitchen";
+    std::string config = std::string(SMAP_SOURCE_DIR) + "/config/7scenes.ini";
+    int runs = 3;
+    size_t maxFrames = 0;
+    bool sync = false;
+    for (int i = 1; i < argc; ++i)
+    {
+        const std::string a = argv[i];
+        if (a == "--config" && i + 1 < argc)
+            config = argv[++i];
+        else if (a == "--runs" && i + 1 < argc)
+            runs = std::stoi(argv[++i]);
+        else if (a == "--max-frames" && i + 1 < argc)
+            maxFrames = std::stoul(argv[++i]);
+        else if (a == "--sync")
+            sync = true;
+        else
+            input = a;
+    }
+    core::TrackedConfig cfg;
+    cfg.loadFile(config);
+    io::FrameSourceParameters sp;
+    features::OrbParameters orb;
+    slam::TrackerParameters tp;
+    slam::LocalMappingParameters mp;
+    cfg.load(sp);
+    cfg.load(orb);
+    cfg.load(tp);
+    cfg.load(mp);
+    sp.max_frames = maxFrames;
+    mp.threaded = !sync;
+
+    std::vector<double> runFps, runTrack, runExtract, runMatch, runOpt, runTotal;
+    for (int r = 0; r < runs; ++r)
+    {
+        auto source = io::openFrameSource(input, sp);
+        source->setMinLoggingLevel(mrpt::system::LVL_ERROR);
+        slam::RgbdSlam slam(orb, tp, mp);
+        slam.setLoggingLevel(mrpt::system::LVL_ERROR);
+        std::vector<double> ext, match, opt, track, total;
+        size_t n = 0, withPose = 0;
+        const auto t0 = std::chrono::steady_clock::now();
+        while (auto f = source->next())
+        {
+            const auto res = slam.process(*f);
+            ext.push_back(res.timings.extraction_ms);
+            match.push_back(res.timings.matching_ms);
+            opt.push_back(res.timings.optimisation_ms);
+            track.push_back(res.timings.total_ms);
+            total.push_back(res.timings.extraction_ms + res.timings.total_ms);
+            withPose += slam::hasPose(res.status) ? 1 : 0;
+            n++;
+        }
+        slam.finish();
+        const double secs =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        std::printf(
+            "run %d: %zu frames (%zu with pose) in %.2f s = %.1f frames/s | per frame median: "
+            "extraction %.2f ms, matching %.2f ms, optimisation %.2f ms, tracking %.2f ms, "
+            "extraction+tracking %.2f ms\n",
+            r + 1, n, withPose, secs, n / secs, median(ext), median(match), median(opt),
+            median(track), median(total));
+        runFps.push_back(n / secs);
+        runExtract.push_back(median(ext));
+        runMatch.push_back(median(match));
+        runOpt.push_back(median(opt));
+        runTrack.push_back(median(track));
+        runTotal.push_back(median(total));
+    }
+    std::printf(
+        "median of %d runs: %.1f frames/s whole run; per frame extraction %.2f ms, matching "
+        "%.2f ms, optimisation %.2f ms, tracking (matching + optimisation + bookkeeping) %.2f "
+        "ms, extraction + tracking %.2f ms\n",
+        runs, median(runFps), median(runExtract), median(runMatch), median(runOpt),
+        median(runTrack), median(runTotal));
+    return 0;
+}
