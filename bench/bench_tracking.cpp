@@ -21,12 +21,17 @@ using namespace smap;
 
 namespace
 {
-double median(std::vector<double> v)
+double quantile(std::vector<double> v, double q)
 {
     if (v.empty())
         return 0.0;
-    std::nth_element(v.begin(), v.begin() + static_cast<long>(v.size() / 2), v.end());
-    return v[v.size() / 2];
+    const auto k = static_cast<size_t>(q * static_cast<double>(v.size() - 1) + 0.5);
+    std::nth_element(v.begin(), v.begin() + static_cast<long>(k), v.end());
+    return v[k];
+}
+double median(std::vector<double> v)
+{
+    return quantile(std::move(v), 0.5);
 }
 }  // namespace
 
@@ -91,9 +96,9 @@ int main(int argc, char** argv)
         std::printf(
             "run %d: %zu frames (%zu with pose) in %.2f s = %.1f frames/s | per frame median: "
             "extraction %.2f ms, matching %.2f ms, optimisation %.2f ms, tracking %.2f ms, "
-            "extraction+tracking %.2f ms\n",
+            "extraction+tracking %.2f ms (95%%: %.2f ms, max %.2f ms)\n",
             r + 1, n, withPose, secs, n / secs, median(ext), median(match), median(opt),
-            median(track), median(total));
+            median(track), median(total), quantile(total, 0.95), quantile(total, 1.0));
         runFps.push_back(n / secs);
         runExtract.push_back(median(ext));
         runMatch.push_back(median(match));

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -40,6 +41,30 @@ TEST(SemanticMapperApp, RunsOnTheEmbeddedDefaultRecording)
     EXPECT_NE(summary.find("\"fx\": 262.5"), std::string::npos) << summary;
     EXPECT_NE(summary.find("sample_walking_xyz_groundtruth.txt"), std::string::npos) << summary;
     EXPECT_EQ(countLines(dir / "o/frames.csv"), 201u);
+    // Tracking: one TUM line per frame with a pose (2 comment lines), the first at the world
+    // origin, and the keyframe trajectory.
+    const std::string traj = smap::test::readTextFile(dir / "o/trajectory.txt");
+    const size_t withPose = countLines(dir / "o/trajectory.txt") - 2;
+    EXPECT_GE(withPose, 190u);
+    EXPECT_NE(summary.find("\"frames_with_pose\": " + std::to_string(withPose)), std::string::npos)
+        << summary;
+    {
+        std::istringstream lines(traj);
+        std::string line;
+        while (std::getline(lines, line) && line[0] == '#')
+        {
+        }
+        std::istringstream first(line);
+        double t = 0, x = 1, y = 1, z = 1, qx = 1, qy = 1, qz = 1, qw = 0;
+        first >> t >> x >> y >> z >> qx >> qy >> qz >> qw;
+        EXPECT_DOUBLE_EQ(t, 1.0e9);
+        EXPECT_NEAR(std::abs(x) + std::abs(y) + std::abs(z), 0.0, 1e-12) << line;
+        EXPECT_NEAR(std::abs(qx) + std::abs(qy) + std::abs(qz), 0.0, 1e-12) << line;
+    }
+    EXPECT_GE(countLines(dir / "o/keyframes.txt"), 2u + 3u);
+    const std::string csv = smap::test::readTextFile(dir / "o/frames.csv");
+    EXPECT_NE(csv.find(",status,keypoints,inliers,keyframe,extraction_ms"), std::string::npos);
+    EXPECT_NE(csv.find(",initialised,"), std::string::npos);
     EXPECT_TRUE(fs::exists(dir / "o/config-effective.ini"));
     EXPECT_NE(out.str().find("outputs in"), std::string::npos);
 }

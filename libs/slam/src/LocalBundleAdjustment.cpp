@@ -68,10 +68,11 @@ LocalBundleAdjustmentStats localBundleAdjustment(const std::shared_ptr<KeyFrame>
             poseToParams(kf->T_cam_world(), b.pose.data());
             kfs.push_back(b);
         };
-        addKf(keyframe.get(), false);
+        // The first keyframe defines the world frame and never moves (as in ORB-SLAM).
+        addKf(keyframe.get(), keyframe->id() == 0);
         for (KeyFrame* kf : keyframe->bestCovisibles(params.ba_max_keyframes - 1))
             if (!kf->isBad())
-                addKf(kf, false);
+                addKf(kf, kf->id() == 0);
         const size_t nLocal = kfs.size();
         for (size_t k = 0; k < nLocal; ++k)
         {
