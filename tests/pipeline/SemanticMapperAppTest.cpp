@@ -69,6 +69,44 @@ TEST(SemanticMapperApp, RunsOnTheEmbeddedDefaultRecording)
     EXPECT_NE(out.str().find("outputs in"), std::string::npos);
 }
 
+// The paper-mode dynamic filter reaches tracking: on the sample (people walking through the
+// view) some keypoints of every frame after the first are marked dynamic; with it off, none.
+TEST(SemanticMapperApp, DynamicFilterModeMarksKeypointsOfWalkingPeople)
+{
+    SMAP_REQUIRE_DATA(pipeline::SemanticMapperApp::defaultInput());
+    test::TempDir dir;
+    for (const std::string mode : {"paper", "off"})
+    {
+        std::ostringstream out;
+        pipeline::SemanticMapperApp app;
+        app.setMinLoggingLevel(mrpt::system::LVL_WARN);
+        ASSERT_EQ(app.run({"--out", dir / mode, "--set", "input.max_frames=30", "--set",
+                           "dynamic.mode=" + mode},
+                          out),
+                  0);
+        std::istringstream csv(smap::test::readTextFile(dir / (mode + "/frames.csv")));
+        std::string line, header;
+        std::getline(csv, header);
+        // dynamic_keypoints is the 5th column from the end.
+        size_t total = 0, frames = 0;
+        while (std::getline(csv, line))
+        {
+            std::vector<std::string> cols;
+            std::stringstream ss(line);
+            for (std::string c; std::getline(ss, c, ',');)
+                cols.push_back(c);
+            ASSERT_GE(cols.size(), 5U);
+            total += std::stoul(cols[cols.size() - 5]);
+            frames++;
+        }
+        EXPECT_EQ(frames, 30U);
+        if (mode == "paper")
+            EXPECT_GT(total, 29U * 5U) << "about a tenth of the keypoints are on people";
+        else
+            EXPECT_EQ(total, 0U);
+    }
+}
+
 TEST(SemanticMapperApp, ConfigAndOverridesReachTheSource)
 {
     test::TempDir dir;

@@ -3,33 +3,28 @@
 #include <limits>
 #include <numeric>
 
+#include "smap/features/FeatureGrid.h"
+
 namespace smap::features
 {
-std::vector<DescriptorMatch> matchWithRatioTest(const cv::Mat& query, const cv::Mat& train,
-                                                float ratio, int max_distance,
-                                                const std::vector<size_t>& query_rows,
-                                                const std::vector<size_t>& train_rows)
+namespace
 {
-    std::vector<size_t> qs = query_rows, ts = train_rows;
-    if (qs.empty())
-    {
-        qs.resize(static_cast<size_t>(query.rows));
-        std::iota(qs.begin(), qs.end(), size_t{0});
-    }
-    if (ts.empty())
-    {
-        ts.resize(static_cast<size_t>(train.rows));
-        std::iota(ts.begin(), ts.end(), size_t{0});
-    }
-    // Best query per train row, so that a train row is never matched twice.
-    std::vector<DescriptorMatch> bestForTrain(static_cast<size_t>(train.rows),
-                                              {0, 0, std::numeric_limits<int>::max()});
-    for (size_t q : qs)
+constexpr int kNone = std::numeric_limits<int>::max();
+
+// The core of both matchers: for each query row, the nearest of the rows `candidates(q)`
+// gives, with Lowe's ratio test; each train row keeps only its closest query.
+template <typename Candidates>
+std::vector<DescriptorMatch> matchOneToOne(const cv::Mat& query, const cv::Mat& train,
+                                           const std::vector<size_t>& query_rows, float ratio,
+                                           int max_distance, Candidates&& candidates)
+{
+    std::vector<DescriptorMatch> bestForTrain(static_cast<size_t>(train.rows), {0, 0, kNone});
+    for (size_t q : query_rows)
     {
         const uint8_t* dq = query.ptr<uint8_t>(static_cast<int>(q));
-        int best = std::numeric_limits<int>::max(), second = best;
+        int best = kNone, second = kNone;
         size_t bestT = 0;
-        for (size_t t : ts)
+        for (size_t t : candidates(q))
         {
             const int d = descriptorDistance(dq, train.ptr<uint8_t>(static_cast<int>(t)));
             if (d < best)
@@ -50,8 +45,42 @@ std::vector<DescriptorMatch> matchWithRatioTest(const cv::Mat& query, const cv::
     }
     std::vector<DescriptorMatch> out;
     for (const DescriptorMatch& m : bestForTrain)
-        if (m.distance != std::numeric_limits<int>::max())
+        if (m.distance != kNone)
             out.push_back(m);
     return out;
+}
+
+std::vector<size_t> allRows(int n)
+{
+    std::vector<size_t> rows(static_cast<size_t>(n));
+    std::iota(rows.begin(), rows.end(), size_t{0});
+    return rows;
+}
+}  // namespace
+
+std::vector<DescriptorMatch> matchWithRatioTest(const cv::Mat& query, const cv::Mat& train,
+                                                float ratio, int max_distance,
+                                                const std::vector<size_t>& query_rows,
+                                                const std::vector<size_t>& train_rows)
+{
+    const std::vector<size_t> qs = query_rows.empty() ? allRows(query.rows) : query_rows;
+    const std::vector<size_t> ts = train_rows.empty() ? allRows(train.rows) : train_rows;
+    return matchOneToOne(query, train, qs, ratio, max_distance,
+                         [&ts](size_t) -> const std::vector<size_t>& { return ts; });
+}
+
+std::vector<DescriptorMatch> matchWithinRadius(const cv::Mat& query,
+                                               const std::vector<cv::KeyPoint>& query_keypoints,
+                                               const std::vector<cv::Point2f>& query_points,
+                                               const cv::Mat& train, const FeatureGrid& train_grid,
+                                               float radius, float ratio, int max_distance)
+{
+    return matchOneToOne(query, train, allRows(query.rows), ratio, max_distance,
+                         [&](size_t q)
+                         {
+                             const int level = query_keypoints[q].octave;
+                             return train_grid.query(query_points[q].x, query_points[q].y, radius,
+                                                     level - 1, level + 1);
+                         });
 }
 }  // namespace smap::features

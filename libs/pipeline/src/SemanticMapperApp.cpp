@@ -5,11 +5,13 @@
 #include <mrpt/system/CTicTac.h>
 
 #include <algorithm>
+#include <chrono>
 #include <filesystem>
 
 #include "smap/core/AtomicFile.h"
 #include "smap/core/InputError.h"
 #include "smap/core/JsonWriter.h"
+#include "smap/dynamic/DynamicFilter.h"
 #include "smap/features/OrbParameters.h"
 #include "smap/io/FrameSource.h"
 #include "smap/io/TumTextFormats.h"
@@ -80,7 +82,9 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
     features::OrbParameters orbParams;
     slam::TrackerParameters trackingParams;
     slam::LocalMappingParameters mappingParams;
-    loadAppConfiguration(cl, {&sourceParams, &orbParams, &trackingParams, &mappingParams});
+    dynamic::DynamicParameters dynamicParams;
+    loadAppConfiguration(
+        cl, {&sourceParams, &orbParams, &trackingParams, &mappingParams, &dynamicParams});
 
     auto source = io::openFrameSource(input, sourceParams);
     source->setMinLoggingLevel(getMinLoggingLevel());
@@ -90,8 +94,8 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
     {
         mrpt::config::CConfigFileMemory effective;
         for (const mrpt::config::CLoadableOptions* p :
-             std::vector<const mrpt::config::CLoadableOptions*>{&sourceParams, &orbParams,
-                                                                &trackingParams, &mappingParams})
+             std::vector<const mrpt::config::CLoadableOptions*>{
+                 &sourceParams, &orbParams, &trackingParams, &mappingParams, &dynamicParams})
             p->saveToConfigFile(effective, "");
         core::AtomicTextFile f((fs::path(outDir) / "config-effective.ini").string());
         f.stream() << "# effective configuration of semantic-mapper (defaults, --config, --set)\n"
@@ -100,9 +104,12 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
     }
 
     core::AtomicTextFile csv((fs::path(outDir) / "frames.csv").string());
-    csv.stream() << frameStatsCsvHeader()
-                 << ",status,keypoints,inliers,keyframe,extraction_ms,matching_ms,"
-                    "optimisation_ms,tracking_ms\n";
+    csv.stream()
+        << frameStatsCsvHeader()
+        << ",status,keypoints,inliers,keyframe,extraction_ms,matching_ms,"
+           "optimisation_ms,tracking_ms,dynamic_keypoints,dynamic_filter_ms,dynamic_ego_ms,"
+           "dynamic_warp_ms,dynamic_flow_ms\n";
+    dynamic::DynamicFilter dynamicFilter(dynamicParams);
     slam::RgbdSlam slam(orbParams, trackingParams, mappingParams);
     slam.setLoggingLevel(getMinLoggingLevel());
     std::vector<double> trackingMs, extractionMs;
@@ -117,7 +124,16 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
     {
         frame->validate();
         const FrameStats s = computeFrameStats(*frame);
-        const slam::TrackingResult tr = slam.process(*frame);
+        const auto tExtract = std::chrono::steady_clock::now();
+        slam::Frame prepared = slam.prepare(*frame);
+        const double frameExtractionMs =
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - tExtract)
+                .count();
+        const dynamic::DynamicResult dyn =
+            dynamicFilter.process(frame->colour, frame->depth, prepared.features, frame->camera);
+        prepared.setWeights(dyn.weights());
+        slam::TrackingResult tr = slam.track(std::move(prepared));
+        tr.timings.extraction_ms = frameExtractionMs;
         tracked += slam::hasPose(tr.status) ? 1 : 0;
         lost += tr.status == slam::TrackingStatus::Lost ? 1 : 0;
         relocalised += tr.status == slam::TrackingStatus::Relocalised ? 1 : 0;
@@ -128,6 +144,10 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
                      << mrpt::format("%.3f,%.3f,%.3f,%.3f", tr.timings.extraction_ms,
                                      tr.timings.matching_ms, tr.timings.optimisation_ms,
                                      tr.timings.total_ms)
+                     << "," << dyn.numDynamic() << ","
+                     << mrpt::format("%.3f,%.3f,%.3f,%.3f", dyn.milliseconds,
+                                     dyn.egoMotionMilliseconds, dyn.warpMilliseconds,
+                                     dyn.flowMilliseconds)
                      << "\n";
         if (n == 0)
         {

@@ -37,4 +37,14 @@ std::vector<DescriptorMatch> matchWithRatioTest(const cv::Mat& query, const cv::
                                                 float ratio, int max_distance,
                                                 const std::vector<size_t>& query_rows = {},
                                                 const std::vector<size_t>& train_rows = {});
+class FeatureGrid;
+
+/// Like matchWithRatioTest, but each query keypoint only looks at train keypoints within
+/// `radius` px (square window, undistorted coordinates, pyramid level within +-1) found through
+/// `train_grid`: frame-to-frame matching where the image motion is bounded.
+std::vector<DescriptorMatch> matchWithinRadius(const cv::Mat& query,
+                                               const std::vector<cv::KeyPoint>& query_keypoints,
+                                               const std::vector<cv::Point2f>& query_points,
+                                               const cv::Mat& train, const FeatureGrid& train_grid,
+                                               float radius, float ratio, int max_distance);
 }  // namespace smap::features

@@ -1,0 +1,31 @@
+// Camera motion between two consecutive frames from their features: the paper's five-point
+// essential matrix (RANSAC), with the metric scale of the translation taken from depth.
+#pragma once
+
+#include <Eigen/Geometry>
+
+#include "smap/core/PinholeCamera.h"
+#include "smap/dynamic/DynamicParameters.h"
+#include "smap/features/FeatureSet.h"
+
+namespace smap::dynamic
+{
+struct EgoMotion
+{
+    bool valid = false;
+    /// Maps points from the previous camera's optical frame into the current one's.
+    Eigen::Isometry3d T_cur_prev = Eigen::Isometry3d::Identity();
+    int matches = 0;       ///< descriptor matches fed to RANSAC
+    int inliers = 0;       ///< RANSAC inliers
+    int scaleSamples = 0;  ///< matches the metric scale was taken from
+};
+
+/// Five-point RANSAC on ratio-test descriptor matches (undistorted pixels), the relative pose
+/// from the essential matrix, then the translation's length from depth: the median over
+/// inliers of the 3D-3D estimate (both depths) or, failing that, of the reprojection estimate
+/// (previous depth only). Invalid with fewer than 8 matches.
+EgoMotion estimateEgoMotionFivePoint(const features::FeatureSet& previous,
+                                     const features::FeatureSet& current,
+                                     const core::PinholeCamera& camera,
+                                     const DynamicParameters& params);
+}  // namespace smap::dynamic

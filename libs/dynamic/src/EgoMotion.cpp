@@ -1,0 +1,136 @@
+#include "smap/dynamic/EgoMotion.h"
+
+#include <algorithm>
+#include <cmath>
+#include <opencv2/calib3d.hpp>
+#include <vector>
+
+#include "smap/features/DescriptorMatcher.h"
+#include "smap/features/FeatureGrid.h"
+
+namespace smap::dynamic
+{
+namespace
+{
+double median(std::vector<double>& v)
+{
+    std::nth_element(v.begin(), v.begin() + static_cast<long>(v.size() / 2), v.end());
+    return v[v.size() / 2];
+}
+}  // namespace
+
+EgoMotion estimateEgoMotionFivePoint(const features::FeatureSet& previous,
+                                     const features::FeatureSet& current,
+                                     const core::PinholeCamera& camera,
+                                     const DynamicParameters& params)
+{
+    EgoMotion out;
+    if (previous.size() < 8 || current.size() < 8)
+        return out;
+    std::vector<int> levels;
+    levels.reserve(previous.size());
+    for (const auto& kp : previous.keypoints)
+        levels.push_back(kp.octave);
+    const features::FeatureGrid grid(previous.undistorted, levels, camera.width, camera.height);
+    const auto matches = features::matchWithinRadius(
+        current.descriptors, current.keypoints, current.undistorted, previous.descriptors, grid,
+        static_cast<float>(params.match_radius), static_cast<float>(params.match_ratio), 64);
+    out.matches = static_cast<int>(matches.size());
+    if (matches.size() < 8)
+        return out;
+    std::vector<cv::Point2f> prevPts, curPts;
+    for (const auto& m : matches)
+    {
+        prevPts.push_back(previous.undistorted[m.train]);
+        curPts.push_back(current.undistorted[m.query]);
+    }
+    const cv::Mat K = camera.cameraMatrix();
+    cv::Mat mask;
+    const cv::Mat E =
+        cv::findEssentialMat(prevPts, curPts, K, cv::RANSAC, params.essential_confidence,
+                             params.essential_threshold, mask);
+    if (E.cols != 3 || E.rows < 3 || E.rows % 3 != 0)
+        return out;  // degenerate
+    // The five-point solver may return several essential matrices stacked: keep the one whose
+    // pose puts most RANSAC inliers in front of both cameras.
+    cv::Mat R, t, bestMask;
+    out.inliers = 0;
+    for (int k = 0; k < E.rows / 3; ++k)
+    {
+        cv::Mat Rk, tk, maskK = mask.clone();
+        // Consecutive frames have a short baseline: the default cheirality distance limit
+        // (50 baselines) would reject every point, so only "in front" is checked.
+        cv::Mat triangulated;
+        const int n = cv::recoverPose(E.rowRange(3 * k, 3 * k + 3), prevPts, curPts, K, Rk, tk, 1e7,
+                                      maskK, triangulated);
+        if (n > out.inliers)
+        {
+            out.inliers = n;
+            R = Rk;
+            t = tk;
+            bestMask = maskK;
+        }
+    }
+    if (out.inliers < 8)
+        return out;
+    mask = bestMask;
+    Eigen::Matrix3d Re;
+    Eigen::Vector3d te;
+    for (int r = 0; r < 3; ++r)
+    {
+        for (int c = 0; c < 3; ++c)
+            Re(r, c) = R.at<double>(r, c);
+        te(r) = t.at<double>(r);
+    }
+    te.normalize();
+
+    // Metric length of the translation from depth.
+    std::vector<double> s3, s2;
+    for (size_t k = 0; k < matches.size(); ++k)
+    {
+        if (mask.at<uint8_t>(static_cast<int>(k)) == 0)
+            continue;
+        const size_t ip = matches[k].train, ic = matches[k].query;
+        const float zp = previous.depth.empty() ? 0.0F : previous.depth[ip];
+        if (zp <= 0.0F)
+            continue;
+        const Eigen::Vector3d a =
+            Re * camera.unproject(prevPts[k].x, prevPts[k].y, static_cast<double>(zp));
+        const float zc = current.depth.empty() ? 0.0F : current.depth[ic];
+        if (zc > 0.0F)
+        {
+            const Eigen::Vector3d c =
+                camera.unproject(curPts[k].x, curPts[k].y, static_cast<double>(zc));
+            s3.push_back(te.dot(c - a));
+            continue;
+        }
+        // a + s t projects to the measured pixel: solve the better-conditioned coordinate.
+        const double xn = (curPts[k].x - camera.cx) / camera.fx;
+        const double yn = (curPts[k].y - camera.cy) / camera.fy;
+        const double dx = te.x() - xn * te.z(), dy = te.y() - yn * te.z();
+        if (std::abs(dx) >= std::abs(dy) && std::abs(dx) > 1e-3)
+            s2.push_back((xn * a.z() - a.x()) / dx);
+        else if (std::abs(dy) > 1e-3)
+            s2.push_back((yn * a.z() - a.y()) / dy);
+    }
+    double scale = 0.0;
+    if (s3.size() >= 5)
+    {
+        out.scaleSamples = static_cast<int>(s3.size());
+        scale = median(s3);
+    }
+    else if (s2.size() >= 5)
+    {
+        out.scaleSamples = static_cast<int>(s2.size());
+        scale = median(s2);
+    }
+    else
+    {
+        return out;
+    }
+    out.T_cur_prev.linear() = Re;
+    out.T_cur_prev.translation() = scale * te;
+    out.valid = true;
+    return out;
+}
+}  // namespace smap::dynamic
