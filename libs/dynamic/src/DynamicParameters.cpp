@@ -15,6 +15,8 @@ std::string toString(FilterMode m)
             return "off";
         case FilterMode::Paper:
             return "paper";
+        case FilterMode::Strong:
+            return "strong";
     }
     return "off";
 }
@@ -28,9 +30,11 @@ void DynamicParameters::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
         mode = FilterMode::Off;
     else if (m == "paper")
         mode = FilterMode::Paper;
+    else if (m == "strong")
+        mode = FilterMode::Strong;
     else
         throw core::InputError(
-            mrpt::format("[dynamic] mode = '%s' is not one of: off, paper", m.c_str()));
+            mrpt::format("[dynamic] mode = '%s' is not one of: off, paper, strong", m.c_str()));
     tau = cfg.read_double(s, "tau", tau);
     lk_window = cfg.read_int(s, "lk_window", lk_window);
     lk_levels = cfg.read_int(s, "lk_levels", lk_levels);
@@ -38,6 +42,31 @@ void DynamicParameters::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
     essential_confidence = cfg.read_double(s, "essential_confidence", essential_confidence);
     match_ratio = cfg.read_double(s, "match_ratio", match_ratio);
     match_radius = cfg.read_double(s, "match_radius", match_radius);
+    pnp_threshold = cfg.read_double(s, "pnp_threshold", pnp_threshold);
+    tau_min = cfg.read_double(s, "tau_min", tau_min);
+    tau_sigmas = cfg.read_double(s, "tau_sigmas", tau_sigmas);
+    depth_margin = cfg.read_double(s, "depth_margin", depth_margin);
+    depth_ratio = cfg.read_double(s, "depth_ratio", depth_ratio);
+    region_radius = cfg.read_double(s, "region_radius", region_radius);
+    region_depth = cfg.read_double(s, "region_depth", region_depth);
+    region_min_neighbours = cfg.read_int(s, "region_min_neighbours", region_min_neighbours);
+    if (!(pnp_threshold > 0.0))
+        throw core::InputError(
+            mrpt::format("[dynamic] pnp_threshold = %g must be > 0", pnp_threshold));
+    if (!(tau_min > 0.0 && tau_min <= tau))
+        throw core::InputError(
+            mrpt::format("[dynamic] tau_min = %g must be in (0, tau = %g]", tau_min, tau));
+    if (!(tau_sigmas > 0.0))
+        throw core::InputError(mrpt::format("[dynamic] tau_sigmas = %g must be > 0", tau_sigmas));
+    if (!(depth_margin > 0.0) || !(depth_ratio >= 0.0))
+        throw core::InputError(
+            mrpt::format("[dynamic] depth_margin = %g must be > 0 and depth_ratio = %g >= 0",
+                         depth_margin, depth_ratio));
+    if (!(region_radius >= 0.0) || !(region_depth > 0.0) || region_min_neighbours < 1)
+        throw core::InputError(
+            mrpt::format("[dynamic] need region_radius >= 0 (%g), region_depth > 0 (%g), "
+                         "region_min_neighbours >= 1 (%d)",
+                         region_radius, region_depth, region_min_neighbours));
     if (!(match_radius > 0.0))
         throw core::InputError(
             mrpt::format("[dynamic] match_radius = %g must be > 0", match_radius));
@@ -72,5 +101,13 @@ void DynamicParameters::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
     cfg.write(s, "essential_confidence", essential_confidence);
     cfg.write(s, "match_ratio", match_ratio);
     cfg.write(s, "match_radius", match_radius);
+    cfg.write(s, "pnp_threshold", pnp_threshold);
+    cfg.write(s, "tau_min", tau_min);
+    cfg.write(s, "tau_sigmas", tau_sigmas);
+    cfg.write(s, "depth_margin", depth_margin);
+    cfg.write(s, "depth_ratio", depth_ratio);
+    cfg.write(s, "region_radius", region_radius);
+    cfg.write(s, "region_depth", region_depth);
+    cfg.write(s, "region_min_neighbours", region_min_neighbours);
 }
 }  // namespace smap::dynamic

@@ -19,6 +19,24 @@ double median(std::vector<double>& v)
 }
 }  // namespace
 
+namespace
+{
+std::vector<features::DescriptorMatch> frameToFrameMatches(const features::FeatureSet& previous,
+                                                           const features::FeatureSet& current,
+                                                           const core::PinholeCamera& camera,
+                                                           const DynamicParameters& params)
+{
+    std::vector<int> levels;
+    levels.reserve(previous.size());
+    for (const auto& kp : previous.keypoints)
+        levels.push_back(kp.octave);
+    const features::FeatureGrid grid(previous.undistorted, levels, camera.width, camera.height);
+    return features::matchWithinRadius(
+        current.descriptors, current.keypoints, current.undistorted, previous.descriptors, grid,
+        static_cast<float>(params.match_radius), static_cast<float>(params.match_ratio), 64);
+}
+}  // namespace
+
 EgoMotion estimateEgoMotionFivePoint(const features::FeatureSet& previous,
                                      const features::FeatureSet& current,
                                      const core::PinholeCamera& camera,
@@ -27,14 +45,7 @@ EgoMotion estimateEgoMotionFivePoint(const features::FeatureSet& previous,
     EgoMotion out;
     if (previous.size() < 8 || current.size() < 8)
         return out;
-    std::vector<int> levels;
-    levels.reserve(previous.size());
-    for (const auto& kp : previous.keypoints)
-        levels.push_back(kp.octave);
-    const features::FeatureGrid grid(previous.undistorted, levels, camera.width, camera.height);
-    const auto matches = features::matchWithinRadius(
-        current.descriptors, current.keypoints, current.undistorted, previous.descriptors, grid,
-        static_cast<float>(params.match_radius), static_cast<float>(params.match_ratio), 64);
+    const auto matches = frameToFrameMatches(previous, current, camera, params);
     out.matches = static_cast<int>(matches.size());
     if (matches.size() < 8)
         return out;
@@ -130,6 +141,60 @@ EgoMotion estimateEgoMotionFivePoint(const features::FeatureSet& previous,
     }
     out.T_cur_prev.linear() = Re;
     out.T_cur_prev.translation() = scale * te;
+    out.valid = true;
+    return out;
+}
+EgoMotion estimateEgoMotionDepthPnp(const features::FeatureSet& previous,
+                                    const features::FeatureSet& current,
+                                    const core::PinholeCamera& camera,
+                                    const DynamicParameters& params)
+{
+    EgoMotion out;
+    if (previous.size() < 12 || current.size() < 12)
+        return out;
+    const auto matches = frameToFrameMatches(previous, current, camera, params);
+    out.matches = static_cast<int>(matches.size());
+    std::vector<cv::Point3f> object;
+    std::vector<cv::Point2f> image;
+    for (const auto& m : matches)
+    {
+        const float z = previous.depth.empty() ? 0.0F : previous.depth[m.train];
+        if (z <= 0.0F)
+            continue;
+        const auto& p = previous.undistorted[m.train];
+        const Eigen::Vector3d X = camera.unproject(p.x, p.y, static_cast<double>(z));
+        object.emplace_back(static_cast<float>(X.x()), static_cast<float>(X.y()),
+                            static_cast<float>(X.z()));
+        image.push_back(current.undistorted[m.query]);
+    }
+    out.scaleSamples = static_cast<int>(object.size());
+    if (object.size() < 12)
+        return out;
+    const cv::Mat K = camera.cameraMatrix();
+    cv::Mat rvec, tvec;
+    std::vector<int> inliers;
+    if (!cv::solvePnPRansac(object, image, K, cv::noArray(), rvec, tvec, false, 100,
+                            static_cast<float>(params.pnp_threshold), 0.99, inliers,
+                            cv::SOLVEPNP_EPNP) ||
+        inliers.size() < 12)
+        return out;
+    std::vector<cv::Point3f> inObject;
+    std::vector<cv::Point2f> inImage;
+    for (int i : inliers)
+    {
+        inObject.push_back(object[static_cast<size_t>(i)]);
+        inImage.push_back(image[static_cast<size_t>(i)]);
+    }
+    cv::solvePnP(inObject, inImage, K, cv::noArray(), rvec, tvec, true, cv::SOLVEPNP_ITERATIVE);
+    cv::Mat R;
+    cv::Rodrigues(rvec, R);
+    for (int r = 0; r < 3; ++r)
+    {
+        for (int c = 0; c < 3; ++c)
+            out.T_cur_prev.linear()(r, c) = R.at<double>(r, c);
+        out.T_cur_prev.translation()(r) = tvec.at<double>(r);
+    }
+    out.inliers = static_cast<int>(inliers.size());
     out.valid = true;
     return out;
 }

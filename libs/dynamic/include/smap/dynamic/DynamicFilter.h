@@ -20,6 +20,10 @@ struct KeypointEvidence
     /// keypoint; negative when Lucas-Kanade could not track it.
     float residual = -1.0F;
     bool dynamic = false;
+    // The evidence behind `dynamic` (strong mode can have several; paper mode only `flow`).
+    bool flow = false;    ///< residual > the frame's tau
+    bool depth = false;   ///< measured in front of the warped previous surface
+    bool region = false;  ///< most depth-similar neighbours are dynamic
 };
 
 struct DynamicResult
@@ -52,6 +56,9 @@ public:
     const DynamicParameters& parameters() const { return params_; }
 
 private:
+    void decideStrong(const features::FeatureSet& features, const cv::Mat& warped_depth,
+                      DynamicResult& result) const;
+
     DynamicParameters params_;
     cv::Mat previousGrey_;
     cv::Mat previousDepth_;

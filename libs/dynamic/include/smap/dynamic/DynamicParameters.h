@@ -10,14 +10,15 @@ namespace smap::dynamic
 {
 enum class FilterMode
 {
-    Off,   ///< every keypoint is static
-    Paper  ///< the paper: five-point ego-motion, warp, LK residual flow > tau
+    Off,    ///< every keypoint is static
+    Paper,  ///< the paper: five-point ego-motion, warp, LK residual flow > tau
+    Strong  ///< beyond the paper: depth PnP ego-motion, adaptive tau, depth test, regions
 };
 std::string toString(FilterMode m);
 
 struct DynamicParameters : public mrpt::config::CLoadableOptions
 {
-    FilterMode mode = FilterMode::Off;
+    FilterMode mode = FilterMode::Strong;
     /// Residual-flow tolerance (px): a keypoint moving more than this after ego-motion
     /// compensation is dynamic. Paper: 7.
     double tau = 7.0;
@@ -30,6 +31,22 @@ struct DynamicParameters : public mrpt::config::CLoadableOptions
     double match_ratio = 0.8;
     /// ... searched within this window (px) around the keypoint's position in the other frame.
     double match_radius = 80.0;
+
+    // Strong mode only.
+    double pnp_threshold = 2.0;  ///< EPnP-RANSAC inlier threshold (px)
+    /// Adaptive tau = clamp(median + tau_sigmas x 1.4826 MAD of the frame's residual flows,
+    /// tau_min, tau).
+    double tau_min = 2.0;
+    double tau_sigmas = 4.0;
+    /// Depth test: a keypoint measured closer than the warped previous surface by more than
+    /// max(depth_margin, depth_ratio x z) is something that moved in front.
+    double depth_margin = 0.10;
+    double depth_ratio = 0.05;
+    /// Region growing: a keypoint with at least region_min_neighbours neighbours within
+    /// region_radius px and region_depth m in depth, most of them dynamic, is dynamic too.
+    double region_radius = 40.0;
+    double region_depth = 0.15;
+    int region_min_neighbours = 3;
 
     void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
                             const std::string& section) override;

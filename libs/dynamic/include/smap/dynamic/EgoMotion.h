@@ -28,4 +28,12 @@ EgoMotion estimateEgoMotionFivePoint(const features::FeatureSet& previous,
                                      const features::FeatureSet& current,
                                      const core::PinholeCamera& camera,
                                      const DynamicParameters& params);
+/// Beyond the paper: the same matches, but the previous keypoints' depth makes them 3D points
+/// and EPnP-RANSAC (`pnp_threshold` px) gives a metric pose directly, refined on the inliers
+/// by iterative PnP. Better conditioned than the five-point method over a short baseline.
+/// Invalid with fewer than 12 matches with depth or 12 inliers.
+EgoMotion estimateEgoMotionDepthPnp(const features::FeatureSet& previous,
+                                    const features::FeatureSet& current,
+                                    const core::PinholeCamera& camera,
+                                    const DynamicParameters& params);
 }  // namespace smap::dynamic
