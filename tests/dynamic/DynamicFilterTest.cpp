@@ -225,10 +225,19 @@ TEST(DynamicFilter, ModeOffAndFirstFrameMarkNothing)
             off.process(p.frame.rendered.colour, p.frame.rendered.depth, p.features, o.camera);
         EXPECT_EQ(ro.numDynamic(), 0U);
         EXPECT_EQ(ro.weights(), std::vector<float>(p.features.size(), 1.0F));
+        EXPECT_TRUE(ro.evaluated);
         if (i == 40)
+        {
             EXPECT_EQ(rp.numDynamic(), 0U) << "no previous frame yet";
+            EXPECT_FALSE(rp.evaluated);
+            EXPECT_EQ(rp.weights(), std::vector<float>(p.features.size(), 0.0F))
+                << "no evidence yet: nothing may start the map";
+        }
         else
+        {
+            EXPECT_TRUE(rp.evaluated);
             EXPECT_GT(rp.numDynamic(), 0U);
+        }
     }
 }
 

@@ -13,7 +13,7 @@ namespace smap::dynamic
 {
 std::vector<float> DynamicResult::weights() const
 {
-    std::vector<float> w(keypoints.size(), 1.0F);
+    std::vector<float> w(keypoints.size(), evaluated ? 1.0F : 0.0F);
     for (size_t i = 0; i < keypoints.size(); ++i)
         if (keypoints[i].dynamic)
             w[i] = 0.0F;
@@ -44,6 +44,7 @@ DynamicResult DynamicFilter::process(const cv::Mat& colour, const cv::Mat& depth
     else
         grey = colour.clone();
 
+    result.evaluated = params_.mode == FilterMode::Off || !previousGrey_.empty();
     if (params_.mode != FilterMode::Off && !previousGrey_.empty() && features.size() > 0)
     {
         auto lap = std::chrono::steady_clock::now();

@@ -29,6 +29,10 @@ struct KeypointEvidence
 struct DynamicResult
 {
     std::vector<KeypointEvidence> keypoints;  ///< one per keypoint of the current frame
+    /// False on the first frame of an active filter: with no previous frame there is no
+    /// evidence either way, and weights() is then all 0 so that no map starts from a frame
+    /// whose movers are unknown.
+    bool evaluated = true;
     EgoMotion egoMotion;
     double tau = 0.0;                    ///< the threshold applied (px)
     double milliseconds = 0.0;           ///< total
@@ -36,7 +40,7 @@ struct DynamicResult
     double warpMilliseconds = 0.0;
     double flowMilliseconds = 0.0;  ///< Lucas-Kanade
 
-    /// Tracking weights: 0 for dynamic keypoints, 1 otherwise.
+    /// Tracking weights: 0 for dynamic keypoints (all, when not evaluated), 1 otherwise.
     std::vector<float> weights() const;
     size_t numDynamic() const;
 };
