@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "smap/slam/MapPoint.h"
+
 namespace smap::slam
 {
 void Frame::setWeights(const std::vector<float>& w)
@@ -55,6 +57,26 @@ void Frame::clearMatches()
 {
     points.assign(size(), nullptr);
     outlier.assign(size(), false);
+}
+
+int Frame::discardOutliers()
+{
+    int inMap = 0;
+    for (size_t i = 0; i < size(); ++i)
+    {
+        if (!points[i])
+            continue;
+        if (outlier[i])
+        {
+            points[i].reset();
+            outlier[i] = false;
+        }
+        else if (points[i]->numObservations() > 0)
+        {
+            inMap++;
+        }
+    }
+    return inMap;
 }
 
 int Frame::countMatches() const

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <limits>
+#include <unordered_set>
 
 #include "smap/features/DescriptorMatcher.h"
 #include "smap/features/RotationConsistency.h"
@@ -161,16 +162,17 @@ int searchKeyFramePoints(Frame& frame, const KeyFrame& kf, double radius, int ma
     const Eigen::Vector3d centre = frame.T_cam_world.inverse().translation();
     const auto& pyr = frame.features.pyramid;
     features::RotationConsistency rot;
+    std::unordered_set<const MapPoint*> matched;
+    for (const auto& fp : frame.points)
+        if (fp)
+            matched.insert(fp.get());
     int n = 0;
     for (size_t i = 0; i < kf.points.size(); ++i)
     {
         const auto& mp = kf.points[i];
         if (!mp || mp->isBad())
             continue;
-        bool found = false;
-        for (const auto& fp : frame.points)
-            found = found || fp == mp;
-        if (found)
+        if (matched.count(mp.get()))
             continue;
         Eigen::Vector3d pc;
         Eigen::Vector2d uv;

@@ -14,22 +14,6 @@ namespace smap::slam
 {
 namespace
 {
-int removeOutliers(Frame& frame)
-{
-    int n = 0;
-    for (size_t i = 0; i < frame.size(); ++i)
-    {
-        if (frame.points[i] && frame.outlier[i])
-        {
-            frame.points[i].reset();
-            frame.outlier[i] = false;
-        }
-        if (frame.points[i])
-            n++;
-    }
-    return n;
-}
-
 int tryKeyFrame(Frame& frame, const KeyFrame& kf, const TrackerParameters& params)
 {
     const std::vector<size_t> kfRows = kf.keypointsWithPoints(),
@@ -85,7 +69,7 @@ int tryKeyFrame(Frame& frame, const KeyFrame& kf, const TrackerParameters& param
     int good = optimizePose(frame, params.optimisation_rounds, params.optimisation_iterations);
     if (good < 10)
         return 0;
-    removeOutliers(frame);
+    frame.discardOutliers();
     const int wanted = params.min_inliers_after_relocalisation;
     if (good < wanted)
     {
@@ -99,7 +83,7 @@ int tryKeyFrame(Frame& frame, const KeyFrame& kf, const TrackerParameters& param
                 good =
                     optimizePose(frame, params.optimisation_rounds, params.optimisation_iterations);
             }
-            removeOutliers(frame);
+            frame.discardOutliers();
         }
     }
     return good;

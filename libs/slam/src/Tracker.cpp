@@ -55,26 +55,6 @@ int Tracker::optimise(Frame& frame)
     return n;
 }
 
-int Tracker::discardOutliers(Frame& frame) const
-{
-    int inMap = 0;
-    for (size_t i = 0; i < frame.size(); ++i)
-    {
-        if (!frame.points[i])
-            continue;
-        if (frame.outlier[i])
-        {
-            frame.points[i].reset();
-            frame.outlier[i] = false;
-        }
-        else if (frame.points[i]->numObservations() > 0)
-        {
-            inMap++;
-        }
-    }
-    return inMap;
-}
-
 TrackingResult Tracker::track(Frame frame)
 {
     const auto t0 = Clock::now();
@@ -126,7 +106,7 @@ TrackingResult Tracker::track(Frame frame)
                     velocity_.reset();
                 if (needNewKeyFrame(frame))
                     newKf = createKeyFrame(frame);
-                discardOutliers(frame);
+                frame.discardOutliers();
                 lost_ = false;
             }
             else
@@ -223,7 +203,7 @@ bool Tracker::trackWithMotionModel(Frame& frame)
     if (n < params_.min_matches_motion)
         return false;
     optimise(frame);
-    return discardOutliers(frame) >= 10;
+    return frame.discardOutliers() >= 10;
 }
 
 bool Tracker::trackReferenceKeyFrame(Frame& frame)
@@ -256,7 +236,7 @@ bool Tracker::trackReferenceKeyFrame(Frame& frame)
         return false;
     frame.T_cam_world = last_->T_cam_world;
     optimise(frame);
-    return discardOutliers(frame) >= 10;
+    return frame.discardOutliers() >= 10;
 }
 
 bool Tracker::relocalise(Frame& frame)

@@ -42,6 +42,9 @@ struct Frame
     /// Weights from a mask image on the colour image's grid: 0 where mask == 0.
     void setMask(const cv::Mat& mask);
     void clearMatches();
+    /// Drops the matches flagged as outliers; returns the remaining matches whose map point
+    /// is in the map (has observations).
+    int discardOutliers();
     int countMatches() const;  ///< non-outlier matches to map points
 };
 

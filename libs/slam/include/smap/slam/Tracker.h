@@ -86,7 +86,6 @@ private:
     std::shared_ptr<KeyFrame> createKeyFrame(Frame& frame);
     void followReplacedPoints(Frame& frame) const;
     int optimise(Frame& frame);
-    int discardOutliers(Frame& frame) const;
 
     Map& map_;
     LocalMapper& mapper_;
