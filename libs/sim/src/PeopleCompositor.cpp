@@ -130,19 +130,9 @@ PeopleCompositor::PeopleCompositor(const std::vector<cv::Mat>& sprites,
             floorHeight_ = d;
         }
     }
-    const auto& T0 = probes.front().T_world_cam;
-    const Eigen::Matrix3d R0 = rotation(T0);
-    const Eigen::Vector3d c0 = translation(T0);
-
-    // Place people in front of the first camera, walking across its view.
-    Eigen::Vector3d forward = R0.col(2);
-    forward -= up_ * up_.dot(forward);
-    forward.normalize();
-    const Eigen::Vector3d side = up_.cross(forward).normalized();
     std::mt19937 rng(seed);
     std::uniform_real_distribution<double> dist(1.2, 3.5), lateral(-1.0, 1.0), speed(0.5, 1.3),
         height(1.6, 1.85), phase(0.0, 5.0);
-    const Eigen::Vector3d ground = c0 - up_ * (up_.dot(c0) - floorHeight_);
 
     // Body samples (feet to head, left to right) of a walking line that are not known to be free
     // space: inside a surface some probe sees, or seen free by no probe (hidden behind walls or
@@ -193,6 +183,15 @@ PeopleCompositor::PeopleCompositor(const std::vector<cv::Mat>& sprites,
 
     for (size_t i = 0; i < count; i++)
     {
+        // Person i walks in front of probe i * probes / count, so that people are spread over
+        // the sequence rather than all left behind at its start.
+        const auto& anchor = probes[i * probes.size() / count].T_world_cam;
+        Eigen::Vector3d forward = rotation(anchor).col(2);
+        forward -= up_ * up_.dot(forward);
+        forward.normalize();
+        const Eigen::Vector3d side = up_.cross(forward).normalized();
+        const Eigen::Vector3d c0 = translation(anchor);
+        const Eigen::Vector3d ground = c0 - up_ * (up_.dot(c0) - floorHeight_);
         CompositedPerson best;
         FreeSpaceCheck bestCheck;
         size_t bestHits = std::numeric_limits<size_t>::max();
@@ -202,7 +201,7 @@ PeopleCompositor::PeopleCompositor(const std::vector<cv::Mat>& sprites,
             p.sprite = sprites[(seed + i) % sprites.size()];
             p.height = height(rng);
             p.start = ground + dist(rng) * forward + lateral(rng) * side;
-            // Mostly across the first view, up to +-1 rad off it.
+            // Mostly across the anchor view, up to +-1 rad off it.
             const double ang = heading(rng);
             p.direction =
                 (std::cos(ang) * side + std::sin(ang) * forward) * (i % 2 == 0 ? 1.0 : -1.0);

@@ -61,9 +61,9 @@ public:
 
     /// Finds the floor: a RANSAC plane among the lowest 30% of the points the probes see (along
     /// the cameras' mean image-up), within 35 degrees of horizontal; its normal is "up". Then
-    /// places `count`
-    /// people 1.2 - 3.5 m in front of the first camera, walking back and forth (0.5 - 1 m each
-    /// way, mostly across the view): among random candidates it keeps the walking line with the
+    /// places `count` people, person i 1.2 - 3.5 m in front of probe i * probes / count (so
+    /// that they are spread over the sequence), walking back and forth (0.5 - 1 m each way,
+    /// mostly across that view): among random candidates it keeps the walking line with the
     /// fewest body samples not known to be free space (inside a surface a probe sees, or seen
     /// free by no probe). Sprites are BGRA.
     PeopleCompositor(const std::vector<cv::Mat>& sprites, const core::Trajectory& T_world_cam,
