@@ -121,7 +121,8 @@ TEST(EgoMotion, DepthPnpMatchesTheTrueRelativePoseOverAShortBaseline)
     o.preset = "static_xyz";
     sim::SequenceGenerator gen(o);
     const features::OrbExtractor orb{features::OrbParameters{}};
-    const dynamic::DynamicParameters dp;
+    dynamic::DynamicParameters dp;
+    dp.ego_max_queries = 0;  // every match; the filter's subsampled estimate is tested below
     for (size_t first : {20U, 60U, 100U})
     {
         const Prepared a = prepare(gen, orb, first), b = prepare(gen, orb, first + 2);
@@ -134,6 +135,34 @@ TEST(EgoMotion, DepthPnpMatchesTheTrueRelativePoseOverAShortBaseline)
                   0.15 * M_PI / 180.0)
             << first;
         EXPECT_GT(ego.inliers, 100);
+    }
+}
+
+TEST(DynamicFilter, StrongModeEgoMotionIsRefinedOnTheFlowTracks)
+{
+    // Default parameters: descriptor matches of 400 keypoints give the first estimate, the
+    // Lucas-Kanade tracks of every static keypoint refine it.
+    sim::GeneratorOptions o;
+    o.preset = "walking_xyz";
+    sim::SequenceGenerator gen(o);
+    const features::OrbExtractor orb{features::OrbParameters{}};
+    dynamic::DynamicFilter filter{dynamic::DynamicParameters{}};
+    for (size_t first : {20U, 60U, 100U})
+    {
+        const Prepared a = prepare(gen, orb, first), b = prepare(gen, orb, first + 2);
+        filter.reset();
+        filter.process(a.frame.rendered.colour, a.frame.rendered.depth, a.features, o.camera);
+        const auto r =
+            filter.process(b.frame.rendered.colour, b.frame.rendered.depth, b.features, o.camera);
+        ASSERT_TRUE(r.egoMotion.valid) << first;
+        const Eigen::Isometry3d truth =
+            toEigen(b.frame.T_world_cam).inverse() * toEigen(a.frame.T_world_cam);
+        EXPECT_LT((r.egoMotion.T_cur_prev.translation() - truth.translation()).norm(), 0.003)
+            << first;
+        EXPECT_LT(
+            Eigen::AngleAxisd(r.egoMotion.T_cur_prev.linear().transpose() * truth.linear()).angle(),
+            0.1 * M_PI / 180.0)
+            << first;
     }
 }
 

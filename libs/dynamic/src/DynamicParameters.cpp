@@ -43,16 +43,28 @@ void DynamicParameters::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
     match_ratio = cfg.read_double(s, "match_ratio", match_ratio);
     match_radius = cfg.read_double(s, "match_radius", match_radius);
     pnp_threshold = cfg.read_double(s, "pnp_threshold", pnp_threshold);
+    ego_max_queries = cfg.read_int(s, "ego_max_queries", ego_max_queries);
+    frame_gap = cfg.read_int(s, "frame_gap", frame_gap);
+    strong_lk_window = cfg.read_int(s, "strong_lk_window", strong_lk_window);
+    strong_lk_levels = cfg.read_int(s, "strong_lk_levels", strong_lk_levels);
     tau_min = cfg.read_double(s, "tau_min", tau_min);
     tau_sigmas = cfg.read_double(s, "tau_sigmas", tau_sigmas);
     depth_margin = cfg.read_double(s, "depth_margin", depth_margin);
     depth_ratio = cfg.read_double(s, "depth_ratio", depth_ratio);
+    occlusion_margin = cfg.read_double(s, "occlusion_margin", occlusion_margin);
     region_radius = cfg.read_double(s, "region_radius", region_radius);
     region_depth = cfg.read_double(s, "region_depth", region_depth);
     region_min_neighbours = cfg.read_int(s, "region_min_neighbours", region_min_neighbours);
+    isolated_fraction = cfg.read_double(s, "isolated_fraction", isolated_fraction);
     if (!(pnp_threshold > 0.0))
         throw core::InputError(
             mrpt::format("[dynamic] pnp_threshold = %g must be > 0", pnp_threshold));
+    if (frame_gap < 1 || frame_gap > 30)
+        throw core::InputError(
+            mrpt::format("[dynamic] frame_gap = %d must be in [1, 30]", frame_gap));
+    if (ego_max_queries != 0 && ego_max_queries < 20)
+        throw core::InputError(mrpt::format(
+            "[dynamic] ego_max_queries = %d must be 0 (all) or >= 20", ego_max_queries));
     if (!(tau_min > 0.0 && tau_min <= tau))
         throw core::InputError(
             mrpt::format("[dynamic] tau_min = %g must be in (0, tau = %g]", tau_min, tau));
@@ -62,6 +74,12 @@ void DynamicParameters::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
         throw core::InputError(
             mrpt::format("[dynamic] depth_margin = %g must be > 0 and depth_ratio = %g >= 0",
                          depth_margin, depth_ratio));
+    if (!(occlusion_margin > 0.0))
+        throw core::InputError(
+            mrpt::format("[dynamic] occlusion_margin = %g must be > 0", occlusion_margin));
+    if (!(isolated_fraction >= 0.0 && isolated_fraction < 1.0))
+        throw core::InputError(
+            mrpt::format("[dynamic] isolated_fraction = %g must be in [0, 1)", isolated_fraction));
     if (!(region_radius >= 0.0) || !(region_depth > 0.0) || region_min_neighbours < 1)
         throw core::InputError(
             mrpt::format("[dynamic] need region_radius >= 0 (%g), region_depth > 0 (%g), "
@@ -72,12 +90,15 @@ void DynamicParameters::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
             mrpt::format("[dynamic] match_radius = %g must be > 0", match_radius));
     if (!(tau > 0.0))
         throw core::InputError(mrpt::format("[dynamic] tau = %g must be > 0", tau));
-    if (lk_window < 5 || lk_window % 2 == 0)
-        throw core::InputError(
-            mrpt::format("[dynamic] lk_window = %d must be odd and >= 5", lk_window));
-    if (lk_levels < 0 || lk_levels > 6)
-        throw core::InputError(
-            mrpt::format("[dynamic] lk_levels = %d must be in [0, 6]", lk_levels));
+    for (const auto& [key, value] : {std::pair<const char*, int>{"lk_window", lk_window},
+                                     {"strong_lk_window", strong_lk_window}})
+        if (value < 5 || value % 2 == 0)
+            throw core::InputError(
+                mrpt::format("[dynamic] %s = %d must be odd and >= 5", key, value));
+    for (const auto& [key, value] : {std::pair<const char*, int>{"lk_levels", lk_levels},
+                                     {"strong_lk_levels", strong_lk_levels}})
+        if (value < 0 || value > 6)
+            throw core::InputError(mrpt::format("[dynamic] %s = %d must be in [0, 6]", key, value));
     if (!(essential_threshold > 0.0))
         throw core::InputError(
             mrpt::format("[dynamic] essential_threshold = %g must be > 0", essential_threshold));
@@ -102,12 +123,18 @@ void DynamicParameters::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
     cfg.write(s, "match_ratio", match_ratio);
     cfg.write(s, "match_radius", match_radius);
     cfg.write(s, "pnp_threshold", pnp_threshold);
+    cfg.write(s, "ego_max_queries", ego_max_queries);
+    cfg.write(s, "frame_gap", frame_gap);
+    cfg.write(s, "strong_lk_window", strong_lk_window);
+    cfg.write(s, "strong_lk_levels", strong_lk_levels);
     cfg.write(s, "tau_min", tau_min);
     cfg.write(s, "tau_sigmas", tau_sigmas);
     cfg.write(s, "depth_margin", depth_margin);
     cfg.write(s, "depth_ratio", depth_ratio);
+    cfg.write(s, "occlusion_margin", occlusion_margin);
     cfg.write(s, "region_radius", region_radius);
     cfg.write(s, "region_depth", region_depth);
     cfg.write(s, "region_min_neighbours", region_min_neighbours);
+    cfg.write(s, "isolated_fraction", isolated_fraction);
 }
 }  // namespace smap::dynamic

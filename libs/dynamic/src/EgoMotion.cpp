@@ -24,8 +24,17 @@ namespace
 std::vector<features::DescriptorMatch> frameToFrameMatches(const features::FeatureSet& previous,
                                                            const features::FeatureSet& current,
                                                            const core::PinholeCamera& camera,
-                                                           const DynamicParameters& params)
+                                                           const DynamicParameters& params,
+                                                           int max_queries = 0)
 {
+    // At most max_queries current keypoints, spread evenly over the (grid-ordered) set.
+    std::vector<size_t> rows;
+    if (max_queries > 0 && current.size() > static_cast<size_t>(max_queries))
+    {
+        const double step = static_cast<double>(current.size()) / max_queries;
+        for (int k = 0; k < max_queries; ++k)
+            rows.push_back(static_cast<size_t>(k * step));
+    }
     std::vector<int> levels;
     levels.reserve(previous.size());
     for (const auto& kp : previous.keypoints)
@@ -33,7 +42,7 @@ std::vector<features::DescriptorMatch> frameToFrameMatches(const features::Featu
     const features::FeatureGrid grid(previous.undistorted, levels, camera.width, camera.height);
     return features::matchWithinRadius(
         current.descriptors, current.keypoints, current.undistorted, previous.descriptors, grid,
-        static_cast<float>(params.match_radius), static_cast<float>(params.match_ratio), 64);
+        static_cast<float>(params.match_radius), static_cast<float>(params.match_ratio), 64, rows);
 }
 }  // namespace
 
@@ -147,12 +156,13 @@ EgoMotion estimateEgoMotionFivePoint(const features::FeatureSet& previous,
 EgoMotion estimateEgoMotionDepthPnp(const features::FeatureSet& previous,
                                     const features::FeatureSet& current,
                                     const core::PinholeCamera& camera,
-                                    const DynamicParameters& params)
+                                    const DynamicParameters& params, bool refine)
 {
     EgoMotion out;
     if (previous.size() < 12 || current.size() < 12)
         return out;
-    const auto matches = frameToFrameMatches(previous, current, camera, params);
+    const auto matches =
+        frameToFrameMatches(previous, current, camera, params, params.ego_max_queries);
     out.matches = static_cast<int>(matches.size());
     std::vector<cv::Point3f> object;
     std::vector<cv::Point2f> image;
@@ -185,7 +195,8 @@ EgoMotion estimateEgoMotionDepthPnp(const features::FeatureSet& previous,
         inObject.push_back(object[static_cast<size_t>(i)]);
         inImage.push_back(image[static_cast<size_t>(i)]);
     }
-    cv::solvePnP(inObject, inImage, K, cv::noArray(), rvec, tvec, true, cv::SOLVEPNP_ITERATIVE);
+    if (refine)
+        cv::solvePnP(inObject, inImage, K, cv::noArray(), rvec, tvec, true, cv::SOLVEPNP_ITERATIVE);
     cv::Mat R;
     cv::Rodrigues(rvec, R);
     for (int r = 0; r < 3; ++r)

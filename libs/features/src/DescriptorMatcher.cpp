@@ -73,9 +73,11 @@ std::vector<DescriptorMatch> matchWithinRadius(const cv::Mat& query,
                                                const std::vector<cv::KeyPoint>& query_keypoints,
                                                const std::vector<cv::Point2f>& query_points,
                                                const cv::Mat& train, const FeatureGrid& train_grid,
-                                               float radius, float ratio, int max_distance)
+                                               float radius, float ratio, int max_distance,
+                                               const std::vector<size_t>& query_rows)
 {
-    return matchOneToOne(query, train, allRows(query.rows), ratio, max_distance,
+    return matchOneToOne(query, train, query_rows.empty() ? allRows(query.rows) : query_rows, ratio,
+                         max_distance,
                          [&](size_t q)
                          {
                              const int level = query_keypoints[q].octave;

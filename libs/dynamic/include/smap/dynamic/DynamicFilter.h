@@ -4,6 +4,8 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <deque>
+#include <functional>
 #include <opencv2/core/mat.hpp>
 #include <vector>
 
@@ -19,11 +21,17 @@ struct KeypointEvidence
     /// Residual flow (px) between the warped previous frame and the current frame at the
     /// keypoint; negative when Lucas-Kanade could not track it.
     float residual = -1.0F;
+    /// Lucas-Kanade's mean absolute intensity difference over its window at the tracked
+    /// position (grey levels; strong mode; negative when not tracked): high where the patch
+    /// changed (occlusion, deformation).
+    float patchError = -1.0F;
     bool dynamic = false;
     // The evidence behind `dynamic` (strong mode can have several; paper mode only `flow`).
     bool flow = false;    ///< residual > the frame's tau
     bool depth = false;   ///< measured in front of the warped previous surface
     bool region = false;  ///< most depth-similar neighbours are dynamic
+    /// Flow said dynamic, but the depth-similar neighbours are mostly static: overruled.
+    bool isolated = false;
 };
 
 struct DynamicResult
@@ -37,8 +45,8 @@ struct DynamicResult
     double tau = 0.0;                    ///< the threshold applied (px)
     double milliseconds = 0.0;           ///< total
     double egoMotionMilliseconds = 0.0;  ///< matching + five-point RANSAC + scale
-    double warpMilliseconds = 0.0;
-    double flowMilliseconds = 0.0;  ///< Lucas-Kanade
+    double warpMilliseconds = 0.0;       ///< paper: the warp; strong: the image pyramid
+    double flowMilliseconds = 0.0;       ///< Lucas-Kanade
 
     /// Tracking weights: 0 for dynamic keypoints (all, when not evaluated), 1 otherwise.
     std::vector<float> weights() const;
@@ -55,17 +63,35 @@ public:
     /// frame, and every frame in mode "off", has no dynamic keypoints.
     DynamicResult process(const cv::Mat& colour, const cv::Mat& depth,
                           const features::FeatureSet& features, const core::PinholeCamera& camera);
-    void reset() { previousGrey_.release(); }
+    void reset() { history_.clear(); }
 
     const DynamicParameters& parameters() const { return params_; }
 
 private:
-    void decideStrong(const features::FeatureSet& features, const cv::Mat& warped_depth,
+    using Stopwatch = std::function<double()>;  ///< milliseconds since its previous call
+
+    void processPaper(const cv::Mat& grey, const features::FeatureSet& features,
+                      const core::PinholeCamera& camera, const Stopwatch& lap,
                       DynamicResult& result) const;
+    void processStrong(const cv::Mat& depth, const features::FeatureSet& features,
+                       const core::PinholeCamera& camera, const Stopwatch& lap,
+                       DynamicResult& result) const;
+    void decideStrong(const features::FeatureSet& features, DynamicResult& result) const;
+
+    /// A frame kept for comparison with later ones.
+    struct PastFrame
+    {
+        cv::Mat grey;
+        std::vector<cv::Mat> pyramid;  ///< Lucas-Kanade pyramid with derivatives (strong)
+        cv::Mat depth;
+        features::FeatureSet features;
+    };
+    /// The frame the current one is compared with: the previous one (paper), or frame_gap
+    /// frames back (strong; fewer at the start).
+    const PastFrame& reference() const { return history_.front(); }
 
     DynamicParameters params_;
-    cv::Mat previousGrey_;
-    cv::Mat previousDepth_;
-    features::FeatureSet previousFeatures_;
+    std::deque<PastFrame> history_;  ///< oldest first, at most frame_gap (paper: 1)
+    std::vector<cv::Mat> currentPyramid_;
 };
 }  // namespace smap::dynamic

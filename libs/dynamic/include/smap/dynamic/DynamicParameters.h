@@ -22,8 +22,8 @@ struct DynamicParameters : public mrpt::config::CLoadableOptions
     /// Residual-flow tolerance (px): a keypoint moving more than this after ego-motion
     /// compensation is dynamic. Paper: 7.
     double tau = 7.0;
-    int lk_window = 15;  ///< Lucas-Kanade window edge (px)
-    int lk_levels = 2;   ///< Lucas-Kanade pyramid levels above the image
+    int lk_window = 15;  ///< Lucas-Kanade window edge (px), paper mode
+    int lk_levels = 2;   ///< Lucas-Kanade pyramid levels above the image, paper mode
     /// Five-point RANSAC: inlier threshold (px) and confidence.
     double essential_threshold = 1.0;
     double essential_confidence = 0.999;
@@ -33,7 +33,19 @@ struct DynamicParameters : public mrpt::config::CLoadableOptions
     double match_radius = 80.0;
 
     // Strong mode only.
+    /// Compare each frame with the one this many frames back (1 = the previous frame, as the
+    /// paper): slow movers and people walking towards the camera move little between
+    /// consecutive frames, and a wider gap multiplies their residual flow and depth change.
+    int frame_gap = 2;
+    /// Lucas-Kanade window (px) and pyramid levels of the strong mode: its flow starts at the
+    /// ego-motion prediction, so static points need no search, and a small window mixes
+    /// less of a nearby mover into background points.
+    int strong_lk_window = 11;
+    int strong_lk_levels = 1;
     double pnp_threshold = 2.0;  ///< EPnP-RANSAC inlier threshold (px)
+    /// The depth-PnP ego-motion matches at most this many current keypoints (spread evenly;
+    /// 0 = all): a few hundred matches fix a 6-DoF pose, and matching is the costly part.
+    int ego_max_queries = 250;
     /// Adaptive tau = clamp(median + tau_sigmas x 1.4826 MAD of the frame's residual flows,
     /// tau_min, tau).
     double tau_min = 2.0;
@@ -42,11 +54,18 @@ struct DynamicParameters : public mrpt::config::CLoadableOptions
     /// max(depth_margin, depth_ratio x z) is something that moved in front.
     double depth_margin = 0.10;
     double depth_ratio = 0.05;
+    /// Occlusion: a keypoint whose reference pixel saw a surface more than this (m) closer
+    /// was hidden in the reference frame (revealed background): no flow evidence.
+    double occlusion_margin = 0.3;
     /// Region growing: a keypoint with at least region_min_neighbours neighbours within
     /// region_radius px and region_depth m in depth, most of them dynamic, is dynamic too.
     double region_radius = 40.0;
     double region_depth = 0.15;
     int region_min_neighbours = 3;
+    /// Isolated flow evidence: a keypoint flagged by its flow alone, among at least
+    /// region_min_neighbours depth-similar neighbours of which at most this fraction is
+    /// dynamic, stays static (0 = off).
+    double isolated_fraction = 0.34;
 
     void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
                             const std::string& section) override;

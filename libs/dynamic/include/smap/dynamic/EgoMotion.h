@@ -30,10 +30,11 @@ EgoMotion estimateEgoMotionFivePoint(const features::FeatureSet& previous,
                                      const DynamicParameters& params);
 /// Beyond the paper: the same matches, but the previous keypoints' depth makes them 3D points
 /// and EPnP-RANSAC (`pnp_threshold` px) gives a metric pose directly, refined on the inliers
-/// by iterative PnP. Better conditioned than the five-point method over a short baseline.
-/// Invalid with fewer than 12 matches with depth or 12 inliers.
+/// by iterative PnP when `refine`. Better conditioned than the five-point method over a short
+/// baseline. Matches at most `ego_max_queries` current keypoints. Invalid with fewer than 12
+/// matches with depth or 12 inliers.
 EgoMotion estimateEgoMotionDepthPnp(const features::FeatureSet& previous,
                                     const features::FeatureSet& current,
                                     const core::PinholeCamera& camera,
-                                    const DynamicParameters& params);
+                                    const DynamicParameters& params, bool refine = true);
 }  // namespace smap::dynamic

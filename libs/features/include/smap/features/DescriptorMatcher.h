@@ -41,10 +41,12 @@ class FeatureGrid;
 
 /// Like matchWithRatioTest, but each query keypoint only looks at train keypoints within
 /// `radius` px (square window, undistorted coordinates, pyramid level within +-1) found through
-/// `train_grid`: frame-to-frame matching where the image motion is bounded.
+/// `train_grid`: frame-to-frame matching where the image motion is bounded. Only the rows in
+/// `query_rows` are matched when it is not empty.
 std::vector<DescriptorMatch> matchWithinRadius(const cv::Mat& query,
                                                const std::vector<cv::KeyPoint>& query_keypoints,
                                                const std::vector<cv::Point2f>& query_points,
                                                const cv::Mat& train, const FeatureGrid& train_grid,
-                                               float radius, float ratio, int max_distance);
+                                               float radius, float ratio, int max_distance,
+                                               const std::vector<size_t>& query_rows = {});
 }  // namespace smap::features
