@@ -3,6 +3,8 @@
 
 #include <filesystem>
 #include <fstream>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
 #include <sstream>
 
 #include "TestData.h"
@@ -75,4 +77,57 @@ TEST(EvalApp, RpeAndArgumentErrors)
     EXPECT_THROW(app.run({"ate", dir / "gt.txt", dir / "missing.txt"}, out), core::InputError);
     EXPECT_THROW(app.run({"ate", dir / "gt.txt", dir / "gt.txt", "--max-dt", "abc"}, out),
                  core::InputError);
+}
+
+TEST(EvalApp, KeypointsScoresDecisionsAgainstMasks)
+{
+    test::TempDir dir;
+    std::filesystem::create_directories(dir / "masks");
+    std::filesystem::create_directories(dir / "debug");
+    // Left half of a 10x10 image is dynamic.
+    cv::Mat mask(10, 10, CV_8UC1, cv::Scalar(0));
+    mask.colRange(0, 5).setTo(255);
+    ASSERT_TRUE(cv::imwrite(dir / "masks/000001.png", mask));
+    ASSERT_TRUE(cv::imwrite(dir / "masks/000002.png", mask));
+    ASSERT_TRUE(cv::imwrite(dir / "masks/000000.png", mask));
+    const std::string header =
+        "u,v,depth_m,residual_px,patch_error,flow,depth_test,region,isolated,dynamic\n";
+    // Frame 0 was not evaluated: it must not count (its all-static rows would be misses).
+    writeFile(dir / "debug/000000.csv",
+              "# not evaluated (no previous frame): no decision was made\n" + header +
+                  "2,2,1,-1,-1,0,0,0,0,0\n");
+    // Frame 1: one of each outcome. Frame 2: two true positives, one true negative.
+    writeFile(dir / "debug/000001.csv", header +
+                                            "2.2,2,1,9,1,1,0,0,0,1\n"    // TP
+                                            "7,2,1,9,1,1,0,0,0,1\n"      // FP
+                                            "2,7.4,1,0.5,1,0,0,0,0,0\n"  // FN
+                                            "7,7,1,0.5,1,0,0,0,0,0\n");  // TN
+    writeFile(dir / "debug/000002.csv", header +
+                                            "1,1,1,9,1,1,0,0,0,1\n"
+                                            "4,9,1,9,1,0,1,0,0,1\n"
+                                            "9,9,1,0.1,1,0,0,0,0,0\n");
+    std::ostringstream out;
+    pipeline::EvalApp app;
+    ASSERT_EQ(app.run({"keypoints", dir / "masks", dir / "debug", "--json", dir / "k.json"}, out),
+              0);
+    EXPECT_NE(out.str().find("frames 2  recall 0.7500  precision 0.7500"), std::string::npos)
+        << out.str();
+    const std::string json = test::readTextFile(dir / "k.json");
+    EXPECT_NE(json.find("\"true_positives\": 3"), std::string::npos) << json;
+    EXPECT_NE(json.find("\"false_negatives\": 1"), std::string::npos) << json;
+
+    // A keypoint outside the mask, or a missing mask, is an input error naming the file.
+    writeFile(dir / "debug/000003.csv", header + "12,2,1,9,1,1,0,0,0,1\n");
+    ASSERT_TRUE(cv::imwrite(dir / "masks/000003.png", mask));
+    try
+    {
+        app.run({"keypoints", dir / "masks", dir / "debug"}, out);
+        FAIL() << "expected an InputError";
+    }
+    catch (const core::InputError& e)
+    {
+        EXPECT_NE(std::string(e.what()).find("000003.csv' line 2"), std::string::npos) << e.what();
+    }
+    std::filesystem::remove(dir / "masks/000003.png");
+    EXPECT_THROW(app.run({"keypoints", dir / "masks", dir / "debug"}, out), core::InputError);
 }

@@ -1,8 +1,10 @@
 #include <gtest/gtest.h>
+#include <mrpt/core/format.h>
 
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <opencv2/imgcodecs.hpp>
 #include <sstream>
 
 #include "SyntheticRgbd.h"
@@ -110,6 +112,57 @@ TEST(SemanticMapperApp, DynamicFilterModeMarksKeypointsOfWalkingPeople)
         else
             EXPECT_EQ(total, 0U);
     }
+}
+
+TEST(SemanticMapperApp, DynamicDebugWritesFigureAndEvidenceForChosenFrames)
+{
+    SMAP_REQUIRE_DATA(pipeline::SemanticMapperApp::defaultInput());
+    test::TempDir dir;
+    std::ostringstream out;
+    pipeline::SemanticMapperApp app;
+    app.setMinLoggingLevel(mrpt::system::LVL_WARN);
+    ASSERT_EQ(
+        app.run({"--out", dir / "o", "--set", "input.max_frames=8", "--dynamic-debug", "0,5-6"},
+                out),
+        0);
+    for (int i = 0; i < 8; ++i)
+    {
+        const bool chosen = i == 0 || i == 5 || i == 6;
+        const std::string stem = dir / mrpt::format("o/dynamic/%06d", i);
+        EXPECT_EQ(fs::exists(stem + ".png"), chosen) << i;
+        EXPECT_EQ(fs::exists(stem + ".csv"), chosen) << i;
+    }
+    EXPECT_EQ(test::readTextFile(dir / "o/dynamic/000000.csv").rfind("# not evaluated", 0), 0U);
+    // Frame 5's table: one row per keypoint, and as many dynamic rows as frames.csv counts.
+    std::istringstream table(test::readTextFile(dir / "o/dynamic/000005.csv"));
+    std::string line;
+    std::getline(table, line);
+    ASSERT_EQ(line.rfind("u,v,", 0), 0U) << line;
+    size_t rows = 0, dynamicRows = 0;
+    while (std::getline(table, line))
+    {
+        rows++;
+        dynamicRows += line.back() == '1' ? 1 : 0;
+    }
+    std::istringstream csv(test::readTextFile(dir / "o/frames.csv"));
+    std::string header;
+    std::getline(csv, header);
+    for (int i = 0; i <= 5; ++i)
+        std::getline(csv, line);
+    std::vector<std::string> cols;
+    std::stringstream ss(line);
+    for (std::string c; std::getline(ss, c, ',');)
+        cols.push_back(c);
+    ASSERT_GE(cols.size(), 10U);
+    EXPECT_EQ(cols[0], "5");
+    EXPECT_EQ(dynamicRows, std::stoul(cols[cols.size() - 5]));
+    EXPECT_EQ(rows, std::stoul(cols[9])) << "keypoints column";
+    EXPECT_GT(dynamicRows, 0U) << "the sample has people walking";
+    const cv::Mat picture = cv::imread(dir / "o/dynamic/000005.png");
+    EXPECT_EQ(picture.cols, 320);
+
+    EXPECT_THROW(app.run({"--out", dir / "p", "--dynamic-debug", "5-2"}, out), core::InputError);
+    EXPECT_THROW(app.run({"--out", dir / "p", "--dynamic-debug", "x"}, out), core::InputError);
 }
 
 TEST(SemanticMapperApp, ConfigAndOverridesReachTheSource)

@@ -2,11 +2,15 @@
 
 #include <mrpt/core/format.h>
 
+#include <algorithm>
 #include <filesystem>
+#include <optional>
+#include <vector>
 
 #include "smap/core/AtomicFile.h"
 #include "smap/core/InputError.h"
 #include "smap/eval/EvalReport.h"
+#include "smap/eval/KeypointDetectionScore.h"
 #include "smap/eval/TrajectoryPlot.h"
 #include "smap/io/TumTextFormats.h"
 #include "smap/pipeline/CommandLine.h"
@@ -20,6 +24,39 @@ void writeJson(const std::string& path, const core::JsonValue& j)
     core::AtomicTextFile f(path);
     f.stream() << j.dump();
     f.commit();
+}
+
+/// smap-eval keypoints: every DEBUG_DIR/*.csv against MASK_DIR/<same stem>.png.
+int scoreKeypoints(const std::string& maskDir, const std::string& debugDir,
+                   const std::optional<std::string>& json, std::ostream& out)
+{
+    namespace fs = std::filesystem;
+    if (!fs::is_directory(maskDir) || !fs::is_directory(debugDir))
+        throw core::InputError(
+            mrpt::format("'%s' and '%s' must both be folders", maskDir.c_str(), debugDir.c_str()));
+    std::vector<fs::path> tables;
+    for (const auto& e : fs::directory_iterator(debugDir))
+        if (e.path().extension() == ".csv")
+            tables.push_back(e.path());
+    std::sort(tables.begin(), tables.end());
+    if (tables.empty())
+        throw core::InputError("'" + debugDir +
+                               "' has no keypoint tables (run semantic-mapper --dynamic-debug)");
+    eval::KeypointDetectionScore total;
+    for (const auto& t : tables)
+    {
+        const fs::path mask = fs::path(maskDir) / (t.stem().string() + ".png");
+        if (!fs::exists(mask))
+            throw core::InputError(mrpt::format("'%s' has no ground-truth mask '%s'",
+                                                t.string().c_str(), mask.string().c_str()));
+        total += eval::scoreKeypointFrame(t.string(), mask.string());
+    }
+    out << mrpt::format("frames %zu  recall %.4f  precision %.4f  (tp %zu fp %zu fn %zu tn %zu)\n",
+                        total.frames, total.recall(), total.precision(), total.truePositives,
+                        total.falsePositives, total.falseNegatives, total.trueNegatives);
+    if (json)
+        writeJson(*json, total.toJson());
+    return kExitOk;
 }
 
 int parseAxis(char c)
@@ -37,7 +74,11 @@ std::string EvalApp::usage()
            "                       [--offset S] [--scale]\n"
            "  smap-eval rpe GT EST [--delta D] [--delta-unit s|frames] [--json FILE] [--max-dt S]\n"
            "                       [--offset S]\n"
+           "  smap-eval keypoints MASK_DIR DEBUG_DIR [--json FILE]\n"
            "\n"
+           "keypoints: dynamic-keypoint recall and precision of semantic-mapper --dynamic-debug\n"
+           "  tables (DEBUG_DIR/NNNNNN.csv) against ground-truth masks (MASK_DIR/NNNNNN.png,\n"
+           "  e.g. the dynamic/ folder smap-synth writes).\n"
            "GT and EST are TUM trajectory files (timestamp tx ty tz qx qy qz qw).\n"
            "  --max-dt S    association tolerance in seconds (default 0.02)\n"
            "  --offset S    added to EST timestamps before association (default 0)\n"
@@ -61,9 +102,12 @@ int EvalApp::run(const std::vector<std::string>& args, std::ostream& out)
         return kExitOk;
     }
     const auto& pos = cl.positionals();
-    if (pos.size() != 3 || (pos[0] != "ate" && pos[0] != "rpe"))
+    if (pos.size() != 3 || (pos[0] != "ate" && pos[0] != "rpe" && pos[0] != "keypoints"))
         throw core::InputError(
-            "expected 'smap-eval ate GT EST' or 'smap-eval rpe GT EST' (see --help)");
+            "expected 'smap-eval ate GT EST', 'smap-eval rpe GT EST' or "
+            "'smap-eval keypoints MASK_DIR DEBUG_DIR' (see --help)");
+    if (pos[0] == "keypoints")
+        return scoreKeypoints(pos[1], pos[2], cl.value("json"), out);
     const auto gt = io::readTumTrajectory(pos[1]);
     const auto est = io::readTumTrajectory(pos[2]);
 

@@ -7,16 +7,20 @@
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
+#include <opencv2/imgcodecs.hpp>
+#include <stdexcept>
 
 #include "smap/core/AtomicFile.h"
 #include "smap/core/InputError.h"
 #include "smap/core/JsonWriter.h"
 #include "smap/dynamic/DynamicFilter.h"
+#include "smap/dynamic/EvidenceReport.h"
 #include "smap/features/OrbParameters.h"
 #include "smap/io/FrameSource.h"
 #include "smap/io/TumTextFormats.h"
 #include "smap/pipeline/AppConfiguration.h"
 #include "smap/pipeline/CommandLine.h"
+#include "smap/pipeline/FrameSelection.h"
 #include "smap/pipeline/FrameSummary.h"
 #include "smap/slam/RgbdSlam.h"
 
@@ -24,6 +28,28 @@ namespace fs = std::filesystem;
 
 namespace smap::pipeline
 {
+namespace
+{
+/// DIR/dynamic/NNNNNN.png (the paper's Figure 4 style) and .csv (evidence per keypoint).
+void writeDynamicDebug(const std::string& outDir, size_t index, const core::RgbdFrame& frame,
+                       const features::FeatureSet& features, const dynamic::DynamicResult& dyn)
+{
+    const fs::path dir = fs::path(outDir) / "dynamic";
+    fs::create_directories(dir);
+    const std::string stem = (dir / mrpt::format("%06zu", index)).string();
+    const cv::Mat picture = dynamic::drawEvidence(frame.colour, features, dyn);
+    core::writeFileAtomically(stem + ".png",
+                              [&](const std::string& tmp)
+                              {
+                                  if (!cv::imwrite(tmp, picture))
+                                      throw std::runtime_error("cannot write " + stem + ".png");
+                              });
+    core::AtomicTextFile csv(stem + ".csv");
+    csv.stream() << dynamic::evidenceCsv(features, dyn);
+    csv.commit();
+}
+}  // namespace
+
 SemanticMapperApp::SemanticMapperApp() : COutputLogger("semantic-mapper") {}
 
 std::string SemanticMapperApp::defaultInput()
@@ -47,6 +73,9 @@ std::string SemanticMapperApp::usage()
            "  --config F   INI or YAML configuration (see config/ and docs/configuration.md)\n"
            "  --out DIR    output folder (default: smap-out)\n"
            "  --set S.K=V  override one configuration key, e.g. --set input.max_frames=100\n"
+           "  --dynamic-debug FRAMES  for these frames ('all' or e.g. '0,50-60') write\n"
+           "               DIR/dynamic/NNNNNN.png (static keypoints red dots, dynamic green +)\n"
+           "               and DIR/dynamic/NNNNNN.csv (per-keypoint evidence)\n"
            "  --quiet      only warnings and errors\n"
            "  --help       this text\n"
            "\n"
@@ -59,7 +88,12 @@ std::string SemanticMapperApp::usage()
 int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& out)
 {
     CommandLine cl;
-    cl.option("config").option("out").option("set").flag("help").flag("quiet");
+    cl.option("config")
+        .option("out")
+        .option("set")
+        .option("dynamic-debug")
+        .flag("help")
+        .flag("quiet");
     cl.parse(args);
     if (cl.has("help"))
     {
@@ -76,6 +110,9 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
         throw core::InputError(
             "no INPUT given and no embedded default recording was found at build time");
     const std::string outDir = cl.value("out").value_or("smap-out");
+    const FrameSelection debugFrames =
+        cl.has("dynamic-debug") ? FrameSelection::parse(*cl.value("dynamic-debug"), "dynamic-debug")
+                                : FrameSelection();
 
     // Configuration: file, then --set overrides; every component loads its parameters once.
     io::FrameSourceParameters sourceParams;
@@ -131,6 +168,8 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
                 .count();
         const dynamic::DynamicResult dyn =
             dynamicFilter.process(frame->colour, frame->depth, prepared.features, frame->camera);
+        if (debugFrames.contains(n))
+            writeDynamicDebug(outDir, n, *frame, prepared.features, dyn);
         prepared.setWeights(dyn.weights());
         slam::TrackingResult tr = slam.track(std::move(prepared));
         tr.timings.extraction_ms = frameExtractionMs;

@@ -1,0 +1,96 @@
+#!/usr/bin/env bash
+# Table II of the dynamic filter (issue: dynamic feature rejection). For every walking and
+# sitting synthetic preset (and 7-Scenes with composited walking people, when ../shared is
+# there), runs semantic-mapper with the filter off, in the paper's mode and in the strong mode,
+# and prints a Markdown table: ATE RMSE / mean / median / S.D. per mode, the improvement
+# (off - mode) / off, the static twin's RMSE (same camera motion, no people), and the strong
+# mode's dynamic-keypoint recall / precision against the ground-truth masks.
+# Sequences are cached under $SMAP_EVAL_CACHE (default /tmp/smap-eval-cache).
+# Usage: bench/eval_dynamic.sh [BUILD_DIR] [extra semantic-mapper args...]
+set -euo pipefail
+root="$(cd "$(dirname "$0")/.." && pwd)"
+build="${1:-$root/build}"
+shift || true
+bin="$build/bin"
+cache="${SMAP_EVAL_CACHE:-/tmp/smap-eval-cache}"
+frames="${SMAP_EVAL_FRAMES:-300}"
+presets="${SMAP_EVAL_PRESETS:-walking_xyz walking_halfsphere walking_rpy walking_static sitting_xyz sitting_halfsphere}"
+shared="$root/../shared"
+mkdir -p "$cache"
+
+# twin of a preset: the same camera motion without people
+twin() {
+    case "$1" in
+        walking_xyz | sitting_xyz) echo static_xyz ;;
+        walking_halfsphere | sitting_halfsphere) echo static_halfsphere ;;
+        walking_rpy) echo static_rpy ;;
+        walking_static) echo static_static ;;
+        7scenes-people) echo 7scenes ;;
+    esac
+}
+
+# run NAME INPUT GT MODE CONFIG [args] -> prints "rmse mean median std"
+run() {
+    local name="$1" input="$2" gt="$3" mode="$4" config="$5"
+    shift 5
+    local out="$cache/dyn-$name-$mode"
+    local debug=()
+    [ "$mode" = strong ] && [ -d "$input/dynamic" ] && debug=(--dynamic-debug all)
+    "$bin/semantic-mapper" "$input" --config "$config" --out "$out" --quiet \
+        --set "dynamic.mode=$mode" "${debug[@]}" "$@" >/dev/null
+    "$bin/smap-eval" ate "$gt" "$out/trajectory.txt" --json "$out/ate.json" >/dev/null
+    /usr/bin/python3 -c "import json,sys; a=json.load(open(sys.argv[1])); print(a['rmse'], a['mean'], a['median'], a['std'])" "$out/ate.json"
+}
+
+render() {
+    local p="$1" dir="$cache/$1-$frames"
+    [ -f "$dir/groundtruth.txt" ] ||
+        "$bin/smap-synth" --preset "$p" --out "$dir" --frames "$frames" --no-rawlog >/dev/null
+    echo "$dir"
+}
+
+row() {
+    local name="$1" input="$2" gt="$3" config="$4" twinRmse="$5"
+    shift 5
+    local off paper strong kp="-"
+    off=$(run "$name" "$input" "$gt" off "$config" "$@")
+    paper=$(run "$name" "$input" "$gt" paper "$config" "$@")
+    strong=$(run "$name" "$input" "$gt" strong "$config" "$@")
+    if [ -d "$input/dynamic" ]; then
+        kp=$("$bin/smap-eval" keypoints "$input/dynamic" "$cache/dyn-$name-strong/dynamic" |
+            awk '{printf "%.3f / %.3f", $4, $6}')
+    fi
+    /usr/bin/python3 - "$name" "$twinRmse" "$kp" "$off" "$paper" "$strong" <<'PY'
+import sys
+name, twin, kp = sys.argv[1:4]
+o, p, s = ([float(x) for x in a.split()] for a in sys.argv[4:7])
+imp = lambda w: 100.0 * (o[0] - w[0]) / o[0]
+f = lambda v: "%.4f" % v
+bound = max(1.5 * float(twin), float(twin) + 0.01) if twin != "-" else None
+ok = "-" if bound is None else ("yes" if s[0] <= bound else "NO")
+print("| %s | %s | %s | %s (%+.0f%%) | %s | %s | %s | %s (%+.0f%%) | %s | %s | %s |" % (
+    name, " / ".join(map(f, o)), twin, f(p[0]), -imp(p), " / ".join(map(f, p[1:])),
+    f(s[0]), " / ".join(map(f, s[1:])), -imp(s), ok, kp, "%.0f%%" % imp(s)))
+PY
+}
+
+echo "| sequence | off: RMSE / mean / median / S.D. (m) | twin RMSE (m) | paper RMSE (vs off) | paper mean / median / S.D. | strong RMSE | strong mean / median / S.D. | strong RMSE vs off | strong within max(1.5 x twin, twin + 1 cm) | strong keypoints recall / precision | improvement (off - strong) / off |"
+echo "|---|---|---|---|---|---|---|---|---|---|---|"
+for p in $presets; do
+    dir=$(render "$p")
+    t=$(twin "$p")
+    tdir=$(render "$t")
+    trmse=$(run "$t" "$tdir" "$tdir/groundtruth.txt" strong "$root/config/synthetic.ini" "$@" | cut -d' ' -f1)
+    row "$p" "$dir" "$dir/groundtruth.txt" "$root/config/synthetic.ini" "$trmse" "$@"
+done
+seven="$shared/data/7scenes-redkitchen"
+if [ -d "$seven" ] && [ -d "$shared/data/people" ] && [ "${SMAP_EVAL_7SCENES:-1}" = 1 ]; then
+    comp="$cache/7scenes-people-1000"
+    [ -f "$comp/groundtruth.txt" ] ||
+        "$bin/smap-synth" --composite-onto "$seven" --people "$shared/data/people" \
+            --config "$root/config/7scenes.ini" --frames 1000 --people-count 6 \
+            --out "$comp" --no-rawlog >/dev/null
+    trmse=$(run 7scenes "$seven" "$seven/groundtruth.txt" strong "$root/config/7scenes.ini" "$@" | cut -d' ' -f1)
+    row 7scenes-people "$comp" "$comp/groundtruth.txt" "$root/config/7scenes.ini" "$trmse" \
+        --set tum.depth_factor=5000 "$@"
+fi
