@@ -130,6 +130,32 @@ PeopleCompositor::PeopleCompositor(const std::vector<cv::Mat>& sprites,
             floorHeight_ = d;
         }
     }
+    // A table or a counter can out-vote the floor when the camera looks down at it. Floor and
+    // table are parallel: along the best plane's normal, the lowest 4 cm slab holding at
+    // least a quarter of its support, more than 20 cm below it, is the floor.
+    {
+        std::vector<double> heights;
+        heights.reserve(points.size());
+        for (const auto& q : points)
+            heights.push_back(up_.dot(q));
+        std::sort(heights.begin(), heights.end());
+        size_t end = 0;
+        for (size_t i = 0; i < heights.size(); ++i)
+        {
+            end = std::max(end, i);
+            while (end < heights.size() && heights[end] < heights[i] + 0.04)
+                end++;
+            const double centre = heights[(i + end) / 2];
+            if (centre > floorHeight_ - 0.2)
+                break;
+            if (4 * (end - i) >= bestInliers)
+            {
+                floorHeight_ = centre;
+                break;
+            }
+        }
+    }
+
     std::mt19937 rng(seed);
     std::uniform_real_distribution<double> dist(1.2, 3.5), lateral(-1.0, 1.0), speed(0.5, 1.3),
         height(1.6, 1.85), phase(0.0, 5.0);
