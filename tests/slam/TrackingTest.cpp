@@ -115,6 +115,55 @@ TEST(RgbdSlam, BlankStretchIsLostThenRelocalised)
     EXPECT_LT(ateRmse(seq.groundTruth, traj), 0.015);
 }
 
+// After frame 49 the camera is carried into a scene the map has never seen (another seed's
+// textures): relocalisation cannot succeed there. With re-anchoring (default: after 3 lost
+// frames) the map restarts at the predicted pose and the rest is tracked, accurately relative
+// to itself; without it every later frame is lost.
+TEST(RgbdSlam, UnknownSceneIsReanchoredAfterAFewLostFrames)
+{
+    const auto& first = staticXyz();
+    static const test::RenderedSequence other = test::renderSequence("static_xyz", 50, 7);
+    std::vector<core::RgbdFrame> frames(first.frames.begin(), first.frames.begin() + 50);
+    core::Trajectory otherTruth;
+    for (size_t k = 0; k < other.frames.size(); ++k)
+    {
+        core::RgbdFrame f = other.frames[k];
+        f.timestamp = first.frames[49].timestamp + static_cast<double>(k + 1) / 30.0;
+        f.index = 50 + k;
+        frames.push_back(f);
+        otherTruth.push_back({f.timestamp, other.groundTruth[k].T_world_cam});
+    }
+    for (const int after : {3, 0})
+    {
+        slam::TrackerParameters tp;
+        tp.reanchor_after = after;
+        slam::RgbdSlam slam(features::OrbParameters{}, tp, deterministic());
+        std::vector<slam::TrackingStatus> status;
+        for (const auto& f : frames)
+            status.push_back(slam.process(f).status);
+        slam.finish();
+        for (size_t i = 1; i < 50; ++i)
+            ASSERT_EQ(status[i], slam::TrackingStatus::Ok) << i;
+        if (after == 0)
+        {
+            for (size_t i = 50; i < frames.size(); ++i)
+                EXPECT_EQ(status[i], slam::TrackingStatus::Lost) << i;
+            continue;
+        }
+        for (size_t i = 50; i < 53; ++i)
+            EXPECT_EQ(status[i], slam::TrackingStatus::Lost) << i;
+        EXPECT_EQ(status[53], slam::TrackingStatus::Reanchored);
+        for (size_t i = 54; i < frames.size(); ++i)
+            EXPECT_EQ(status[i], slam::TrackingStatus::Ok) << i;
+        core::Trajectory after53;
+        for (const auto& p : slam.trajectory())
+            if (p.timestamp >= frames[53].timestamp - 1e-6)
+                after53.push_back(p);
+        ASSERT_EQ(after53.size(), frames.size() - 53);
+        EXPECT_LT(ateRmse(otherTruth, after53), 0.01);
+    }
+}
+
 TEST(RgbdSlam, TexturelessStartWaitsThenInitialises)
 {
     const auto& seq = staticXyz();

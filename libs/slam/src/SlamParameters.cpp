@@ -37,6 +37,7 @@ void TrackerParameters::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
     revisit_radius = cfg.read_double(s, "revisit_radius", revisit_radius);
     relocalisation_candidates =
         cfg.read_int(s, "relocalisation_candidates", relocalisation_candidates);
+    reanchor_after = cfg.read_int(s, "reanchor_after", reanchor_after);
     optimisation_rounds = cfg.read_int(s, "optimisation_rounds", optimisation_rounds);
     optimisation_iterations = cfg.read_int(s, "optimisation_iterations", optimisation_iterations);
 
@@ -58,6 +59,9 @@ void TrackerParameters::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
         throw core::InputError(
             mrpt::format("[tracking] revisit_radius = %g must be >= 0", revisit_radius));
     requirePositive(relocalisation_candidates, s, "relocalisation_candidates");
+    if (reanchor_after < 0)
+        throw core::InputError(
+            mrpt::format("[tracking] reanchor_after = %d must be >= 0", reanchor_after));
     requirePositive(optimisation_rounds, s, "optimisation_rounds");
     requirePositive(optimisation_iterations, s, "optimisation_iterations");
 }
@@ -81,6 +85,7 @@ void TrackerParameters::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
     cfg.write(s, "keyframe_ref_ratio", keyframe_ref_ratio);
     cfg.write(s, "revisit_radius", revisit_radius);
     cfg.write(s, "relocalisation_candidates", relocalisation_candidates);
+    cfg.write(s, "reanchor_after", reanchor_after);
     cfg.write(s, "optimisation_rounds", optimisation_rounds);
     cfg.write(s, "optimisation_iterations", optimisation_iterations);
 }

@@ -36,6 +36,8 @@ std::string toString(TrackingStatus s)
             return "ok";
         case TrackingStatus::Relocalised:
             return "relocalised";
+        case TrackingStatus::Reanchored:
+            return "reanchored";
         case TrackingStatus::Lost:
             return "lost";
     }
@@ -84,9 +86,12 @@ TrackingResult Tracker::track(Frame frame)
             if (!lost_)
             {
                 if (velocity_ && last_ && frame.id > lastRelocalisationFrameId_ + 1)
-                    ok = trackWithMotionModel(frame) || trackReferenceKeyFrame(frame);
+                    ok = trackWithMotionModel(frame, *velocity_) || trackReferenceKeyFrame(frame);
                 else
-                    ok = trackReferenceKeyFrame(frame);
+                    // No velocity yet (just relocalised or re-anchored): the reference keyframe,
+                    // else the last frame's points around its pose (the camera moved little).
+                    ok = trackReferenceKeyFrame(frame) ||
+                         (last_ && trackWithMotionModel(frame, Eigen::Isometry3d::Identity()));
             }
             else
             {
@@ -97,6 +102,35 @@ TrackingResult Tracker::track(Frame frame)
             }
             if (ok)
                 ok = trackLocalMap(frame);
+            bool reanchored = false;
+            const auto carried = odometryPose(frame);
+            if (!ok && lost_ && params_.reanchor_after > 0 &&
+                framesLost_ >= params_.reanchor_after && lastTracked_T_cam_world_)
+            {
+                // The pose the outside odometry carried forward; without it, constant velocity
+                // from the last tracked frame for at most reanchor_after frames (a longer
+                // extrapolation only adds error).
+                Eigen::Isometry3d T = *lastTracked_T_cam_world_;
+                if (carried)
+                    T = *carried;
+                else if (velocityAtLoss_)
+                    for (int k = 0; k <= std::min(framesLost_, params_.reanchor_after); ++k)
+                        T = *velocityAtLoss_ * T;
+                frame.T_cam_world = T;
+                frame.clearMatches();
+                reanchored = anchorKeyFrame(frame, 2 * params_.min_inliers_after_relocalisation);
+                if (reanchored)
+                {
+                    MRPT_LOG_WARN_FMT("re-anchored the map at frame %lu after %d lost frames",
+                                      static_cast<unsigned long>(frame.id), framesLost_);
+                    newKf = reference_;
+                    lost_ = false;
+                    framesLost_ = 0;
+                    velocity_.reset();
+                    lastTracked_T_cam_world_ = frame.T_cam_world;
+                    result.status = TrackingStatus::Reanchored;
+                }
+            }
             if (ok)
             {
                 result.status = relocalised ? TrackingStatus::Relocalised : TrackingStatus::Ok;
@@ -108,18 +142,30 @@ TrackingResult Tracker::track(Frame frame)
                     newKf = createKeyFrame(frame);
                 frame.discardOutliers();
                 lost_ = false;
+                framesLost_ = 0;
+                lastTracked_T_cam_world_ = frame.T_cam_world;
             }
-            else
+            else if (!reanchored)
             {
                 if (!lost_)
+                {
                     MRPT_LOG_WARN_FMT("tracking lost at frame %lu (t = %.3f)",
                                       static_cast<unsigned long>(frame.id), frame.timestamp);
+                    velocityAtLoss_ = velocity_;
+                }
                 result.status = TrackingStatus::Lost;
                 velocity_.reset();
                 lost_ = true;
+                framesLost_++;
             }
             if (relocalised)
                 MRPT_LOG_INFO_FMT("relocalised at frame %lu", static_cast<unsigned long>(frame.id));
+            if (hasPose(result.status))
+                recentPoses_.emplace_back(frame.id, frame.T_cam_world);
+            else if (carried)
+                recentPoses_.emplace_back(frame.id, *carried);
+            while (recentPoses_.size() > 16)
+                recentPoses_.pop_front();
         }
         result.inliers = frame.countMatches();
         FrameRecord rec;
@@ -146,15 +192,39 @@ TrackingResult Tracker::track(Frame frame)
     return result;
 }
 
+std::optional<Eigen::Isometry3d> Tracker::odometryPose(const Frame& frame) const
+{
+    if (!frame.odometry_T_cam_earlier || frame.odometryFramesBack == 0 ||
+        frame.odometryFramesBack > frame.id)
+        return std::nullopt;
+    const uint64_t earlier = frame.id - frame.odometryFramesBack;
+    for (const auto& [id, T] : recentPoses_)
+        if (id == earlier)
+            return *frame.odometry_T_cam_earlier * T;
+    return std::nullopt;
+}
+
 bool Tracker::initialise(Frame& frame)
+{
+    frame.T_cam_world = Eigen::Isometry3d::Identity();
+    if (!anchorKeyFrame(frame, params_.init_min_points))
+        return false;
+    initialised_ = true;
+    lastTracked_T_cam_world_ = frame.T_cam_world;
+    recentPoses_.emplace_back(frame.id, frame.T_cam_world);
+    MRPT_LOG_INFO_FMT("map initialised at frame %lu with %zu points",
+                      static_cast<unsigned long>(frame.id), map_.points().size());
+    return true;
+}
+
+bool Tracker::anchorKeyFrame(Frame& frame, int min_points)
 {
     int withDepth = 0;
     for (size_t i = 0; i < frame.size(); ++i)
         if (frame.usable(i) && frame.features.hasDepth(i))
             withDepth++;
-    if (withDepth < params_.init_min_points)
+    if (withDepth < min_points)
         return false;
-    frame.T_cam_world = Eigen::Isometry3d::Identity();
     auto kf = map_.createKeyFrame(frame);
     const Eigen::Isometry3d T_world_cam = frame.T_cam_world.inverse();
     for (size_t i = 0; i < frame.size(); ++i)
@@ -172,10 +242,7 @@ bool Tracker::initialise(Frame& frame)
     }
     reference_ = kf;
     lastKeyFrameFrameId_ = frame.id;
-    initialised_ = true;
     localKeyFrames_ = {kf.get()};
-    MRPT_LOG_INFO_FMT("map initialised at frame %lu with %zu points",
-                      static_cast<unsigned long>(frame.id), map_.points().size());
     return true;
 }
 
@@ -190,9 +257,9 @@ void Tracker::followReplacedPoints(Frame& frame) const
     }
 }
 
-bool Tracker::trackWithMotionModel(Frame& frame)
+bool Tracker::trackWithMotionModel(Frame& frame, const Eigen::Isometry3d& velocity)
 {
-    frame.T_cam_world = *velocity_ * last_->T_cam_world;
+    frame.T_cam_world = velocity * last_->T_cam_world;
     frame.clearMatches();
     int n = searchFromLastFrame(frame, *last_, params_.motion_search_radius);
     if (n < params_.min_matches_motion)

@@ -5,6 +5,7 @@
 #include <Eigen/Geometry>
 #include <memory>
 #include <opencv2/core/mat.hpp>
+#include <optional>
 #include <vector>
 
 #include "smap/core/PinholeCamera.h"
@@ -31,6 +32,11 @@ struct Frame
     std::vector<bool> outlier;
     Eigen::Isometry3d T_cam_world = Eigen::Isometry3d::Identity();
     cv::Mat thumbnail;  ///< small, blurred, zero-mean unit-norm image for relocalisation
+    /// Outside odometry (optional, e.g. the dynamic filter's ego-motion): this camera's pose
+    /// relative to the camera `odometryFramesBack` frames earlier. While tracking is lost it
+    /// carries the pose forward, so that a re-anchored map starts where the camera is.
+    std::optional<Eigen::Isometry3d> odometry_T_cam_earlier;
+    uint64_t odometryFramesBack = 0;
 
     size_t size() const { return features.size(); }
     bool usable(size_t i) const { return weights[i] > 0.0F; }

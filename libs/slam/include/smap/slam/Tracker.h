@@ -7,6 +7,7 @@
 #include <mrpt/system/COutputLogger.h>
 
 #include <Eigen/Geometry>
+#include <deque>
 #include <memory>
 #include <optional>
 #include <string>
@@ -28,13 +29,14 @@ enum class TrackingStatus
     Initialised,     ///< this frame started the map
     Ok,
     Relocalised,  ///< was lost, found again on this frame
+    Reanchored,   ///< was lost too long: this frame re-anchored the map at its predicted pose
     Lost
 };
 std::string toString(TrackingStatus s);
 inline bool hasPose(TrackingStatus s)
 {
     return s == TrackingStatus::Initialised || s == TrackingStatus::Ok ||
-           s == TrackingStatus::Relocalised;
+           s == TrackingStatus::Relocalised || s == TrackingStatus::Reanchored;
 }
 
 struct TrackingTimings
@@ -77,9 +79,13 @@ public:
 
 private:
     bool initialise(Frame& frame);
-    bool trackWithMotionModel(Frame& frame);
+    /// Projection search of the last frame's points at velocity x its pose, then pose-only BA.
+    bool trackWithMotionModel(Frame& frame, const Eigen::Isometry3d& velocity);
     bool trackReferenceKeyFrame(Frame& frame);
     bool relocalise(Frame& frame);
+    /// Adds `frame` as a keyframe at its current pose with points from its depth (the first
+    /// keyframe, or a re-anchor); false when it has fewer than `min_points` usable depths.
+    bool anchorKeyFrame(Frame& frame, int min_points);
     bool trackLocalMap(Frame& frame);
     void updateLocalMap(const Frame& frame);
     bool needNewKeyFrame(const Frame& frame) const;
@@ -94,6 +100,13 @@ private:
     bool lost_ = false;
     std::optional<Frame> last_;
     std::optional<Eigen::Isometry3d> velocity_;  ///< T_cam_lastcam of the last step
+    /// Re-anchoring: the last frame with a pose, the velocity then, frames lost since.
+    std::optional<Eigen::Isometry3d> lastTracked_T_cam_world_;
+    std::optional<Eigen::Isometry3d> velocityAtLoss_;
+    int framesLost_ = 0;
+    /// T_cam_world of the last frames (tracked, or carried by outside odometry while lost).
+    std::deque<std::pair<uint64_t, Eigen::Isometry3d>> recentPoses_;
+    std::optional<Eigen::Isometry3d> odometryPose(const Frame& frame) const;
     std::shared_ptr<KeyFrame> reference_;
     uint64_t lastKeyFrameFrameId_ = 0;
     uint64_t lastRelocalisationFrameId_ = 0;
