@@ -66,6 +66,7 @@ DynamicResult DynamicFilter::process(const cv::Mat& colour, const cv::Mat& depth
     result.evaluated = params_.mode == FilterMode::Off || !history_.empty();
     if (params_.mode != FilterMode::Off && !history_.empty() && features.size() > 0)
     {
+        result.framesBack = history_.size();
         if (strong)
             processStrong(depth, features, camera, msSinceLap, result);
         else
@@ -79,6 +80,12 @@ DynamicResult DynamicFilter::process(const cv::Mat& colour, const cv::Mat& depth
         currentPyramid_.clear();
         past.depth = depth.clone();
         past.features = features;
+        if (result.evaluated && strong)
+        {
+            past.dynamic.resize(result.keypoints.size());
+            for (size_t i = 0; i < result.keypoints.size(); ++i)
+                past.dynamic[i] = result.keypoints[i].dynamic;
+        }
         history_.push_back(std::move(past));
         const size_t keep = strong ? static_cast<size_t>(params_.frame_gap) : 1;
         while (history_.size() > keep)
@@ -128,8 +135,8 @@ void DynamicFilter::processStrong(const cv::Mat& depth, const features::FeatureS
                                   DynamicResult& result) const
 {
     // No final iterative refinement: the flow tracks refine the pose below.
-    result.egoMotion =
-        estimateEgoMotionDepthPnp(reference().features, features, camera, params_, false);
+    result.egoMotion = estimateEgoMotionDepthPnp(reference().features, features, camera, params_,
+                                                 false, reference().dynamic);
     if (!result.egoMotion.valid)
         result.egoMotion =
             estimateEgoMotionFivePoint(reference().features, features, camera, params_);

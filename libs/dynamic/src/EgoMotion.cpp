@@ -156,13 +156,18 @@ EgoMotion estimateEgoMotionFivePoint(const features::FeatureSet& previous,
 EgoMotion estimateEgoMotionDepthPnp(const features::FeatureSet& previous,
                                     const features::FeatureSet& current,
                                     const core::PinholeCamera& camera,
-                                    const DynamicParameters& params, bool refine)
+                                    const DynamicParameters& params, bool refine,
+                                    const std::vector<bool>& previous_dynamic)
 {
     EgoMotion out;
     if (previous.size() < 12 || current.size() < 12)
         return out;
-    const auto matches =
-        frameToFrameMatches(previous, current, camera, params, params.ego_max_queries);
+    auto matches = frameToFrameMatches(previous, current, camera, params, params.ego_max_queries);
+    if (previous_dynamic.size() == previous.size())
+        matches.erase(std::remove_if(matches.begin(), matches.end(),
+                                     [&](const features::DescriptorMatch& m)
+                                     { return previous_dynamic[m.train]; }),
+                      matches.end());
     out.matches = static_cast<int>(matches.size());
     std::vector<cv::Point3f> object;
     std::vector<cv::Point2f> image;

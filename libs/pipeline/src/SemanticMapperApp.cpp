@@ -150,7 +150,7 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
     slam::RgbdSlam slam(orbParams, trackingParams, mappingParams);
     slam.setLoggingLevel(getMinLoggingLevel());
     std::vector<double> trackingMs, extractionMs;
-    size_t tracked = 0, lost = 0, relocalised = 0;
+    size_t tracked = 0, lost = 0, relocalised = 0, reanchored = 0;
     mrpt::system::CTicTac timer;
     double lastReport = 0.0, sumValid = 0.0;
     const auto total = source->sizeHint();
@@ -171,11 +171,17 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
         if (debugFrames.contains(n))
             writeDynamicDebug(outDir, n, *frame, prepared.features, dyn);
         prepared.setWeights(dyn.weights());
+        if (dyn.egoMotion.valid && dyn.framesBack > 0)
+        {
+            prepared.odometry_T_cam_earlier = dyn.egoMotion.T_cur_prev;
+            prepared.odometryFramesBack = dyn.framesBack;
+        }
         slam::TrackingResult tr = slam.track(std::move(prepared));
         tr.timings.extraction_ms = frameExtractionMs;
         tracked += slam::hasPose(tr.status) ? 1 : 0;
         lost += tr.status == slam::TrackingStatus::Lost ? 1 : 0;
         relocalised += tr.status == slam::TrackingStatus::Relocalised ? 1 : 0;
+        reanchored += tr.status == slam::TrackingStatus::Reanchored ? 1 : 0;
         trackingMs.push_back(tr.timings.total_ms);
         extractionMs.push_back(tr.timings.extraction_ms);
         csv.stream() << toCsvRow(s) << "," << slam::toString(tr.status) << "," << tr.keypoints
@@ -248,6 +254,7 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
     tracking.set("frames_with_pose", static_cast<uint64_t>(tracked))
         .set("frames_lost", static_cast<uint64_t>(lost))
         .set("relocalisations", static_cast<uint64_t>(relocalised))
+        .set("reanchors", static_cast<uint64_t>(reanchored))
         .set("keyframes", static_cast<uint64_t>(slam.numKeyFrames()))
         .set("keyframes_culled", static_cast<uint64_t>(mapStats.keyframesCulled))
         .set("map_points", static_cast<uint64_t>(slam.numPoints()))

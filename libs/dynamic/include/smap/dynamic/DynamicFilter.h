@@ -41,9 +41,10 @@ struct DynamicResult
     /// evidence either way, and weights() is then all 0 so that no map starts from a frame
     /// whose movers are unknown.
     bool evaluated = true;
-    EgoMotion egoMotion;
-    double tau = 0.0;                    ///< the threshold applied (px)
-    double milliseconds = 0.0;           ///< total
+    EgoMotion egoMotion;        ///< T_cur_prev: relative to the reference frame, framesBack earlier
+    size_t framesBack = 0;      ///< how many frames back the reference was (0: not evaluated)
+    double tau = 0.0;           ///< the threshold applied (px)
+    double milliseconds = 0.0;  ///< total
     double egoMotionMilliseconds = 0.0;  ///< matching + five-point RANSAC + scale
     double warpMilliseconds = 0.0;       ///< paper: the warp; strong: the image pyramid
     double flowMilliseconds = 0.0;       ///< Lucas-Kanade
@@ -85,6 +86,9 @@ private:
         std::vector<cv::Mat> pyramid;  ///< Lucas-Kanade pyramid with derivatives (strong)
         cv::Mat depth;
         features::FeatureSet features;
+        /// Its keypoints' decisions (strong; empty when not evaluated): the ego-motion of a
+        /// later frame leaves them out, so that people filling half the view do not pull it.
+        std::vector<bool> dynamic;
     };
     /// The frame the current one is compared with: the previous one (paper), or frame_gap
     /// frames back (strong; fewer at the start).

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <vector>
 
 #include "smap/core/PinholeCamera.h"
 #include "smap/dynamic/DynamicParameters.h"
@@ -31,10 +32,12 @@ EgoMotion estimateEgoMotionFivePoint(const features::FeatureSet& previous,
 /// Beyond the paper: the same matches, but the previous keypoints' depth makes them 3D points
 /// and EPnP-RANSAC (`pnp_threshold` px) gives a metric pose directly, refined on the inliers
 /// by iterative PnP when `refine`. Better conditioned than the five-point method over a short
-/// baseline. Matches at most `ego_max_queries` current keypoints. Invalid with fewer than 12
-/// matches with depth or 12 inliers.
+/// baseline. Matches at most `ego_max_queries` current keypoints; previous keypoints marked in
+/// `previous_dynamic` (when it has one entry per previous keypoint) are left out. Invalid with
+/// fewer than 12 matches with depth or 12 inliers.
 EgoMotion estimateEgoMotionDepthPnp(const features::FeatureSet& previous,
                                     const features::FeatureSet& current,
                                     const core::PinholeCamera& camera,
-                                    const DynamicParameters& params, bool refine = true);
+                                    const DynamicParameters& params, bool refine = true,
+                                    const std::vector<bool>& previous_dynamic = {});
 }  // namespace smap::dynamic
