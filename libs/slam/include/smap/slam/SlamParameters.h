@@ -30,12 +30,13 @@ struct TrackerParameters : public mrpt::config::CLoadableOptions
     int relocalisation_candidates = 5;  ///< keyframes tried per lost frame, by image similarity
     /// After this many lost frames in a row that relocalisation could not place, the next frame
     /// with enough depth (2 x min_inliers_after_relocalisation usable keypoints with depth)
-    /// re-anchors the map: it becomes a keyframe at the pose predicted from
-    /// the last tracked frame and its velocity (at most reanchor_after frames ahead), its depth
-    /// gives new points, and tracking goes on from there (status "reanchored"). The camera
-    /// has then usually moved into a part the map does not hold, where relocalisation cannot
-    /// succeed. 0 = never (lost until relocalised, as ORB-SLAM2).
-    int reanchor_after = 3;
+    /// re-anchors the map: it becomes a keyframe at the pose predicted by the outside odometry
+    /// (Frame::odometry_T_cam_earlier) or else by the last tracked frame's velocity (at most
+    /// reanchor_after frames ahead), its depth gives new points, and tracking goes on from
+    /// there (status "reanchored"). The camera has then usually moved into a part the map
+    /// does not hold, where relocalisation cannot succeed. 0 = never (lost until relocalised,
+    /// as ORB-SLAM2; the default, see docs/tracking.md).
+    int reanchor_after = 0;
     int optimisation_rounds = 4;       ///< pose-only optimisation: outlier rejection rounds
     int optimisation_iterations = 10;  ///< Levenberg-Marquardt iterations per round
 
