@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "BenchStats.h"
 #include "smap/core/TrackedConfig.h"
 #include "smap/dynamic/DynamicFilter.h"
 #include "smap/io/FrameSource.h"
@@ -21,17 +22,10 @@
 #include "smap/slam/RgbdSlam.h"
 
 using namespace smap;
+using smap::bench::median;
 
 namespace
 {
-double median(std::vector<double> v)
-{
-    if (v.empty())
-        return 0.0;
-    std::nth_element(v.begin(), v.begin() + static_cast<long>(v.size() / 2), v.end());
-    return v[v.size() / 2];
-}
-
 struct Prepared
 {
     core::RgbdFrame frame;

@@ -13,27 +13,14 @@
 #include <string>
 #include <vector>
 
+#include "BenchStats.h"
 #include "smap/core/TrackedConfig.h"
 #include "smap/io/FrameSource.h"
 #include "smap/slam/RgbdSlam.h"
 
 using namespace smap;
-
-namespace
-{
-double quantile(std::vector<double> v, double q)
-{
-    if (v.empty())
-        return 0.0;
-    const auto k = static_cast<size_t>(q * static_cast<double>(v.size() - 1) + 0.5);
-    std::nth_element(v.begin(), v.begin() + static_cast<long>(k), v.end());
-    return v[k];
-}
-double median(std::vector<double> v)
-{
-    return quantile(std::move(v), 0.5);
-}
-}  // namespace
+using smap::bench::median;
+using smap::bench::quantile;
 
 int main(int argc, char** argv)
 {

@@ -286,9 +286,9 @@ void DynamicFilter::processStrong(const cv::Mat& depth, const features::FeatureS
             const double step = static_cast<double>(object.size()) / kMaxRefinePoints;
             for (size_t k = 0; k < kMaxRefinePoints; ++k)
             {
-                const auto from = static_cast<size_t>(static_cast<double>(k) * step);
-                object[k] = object[from];
-                image[k] = image[from];
+                const auto source = static_cast<size_t>(static_cast<double>(k) * step);
+                object[k] = object[source];
+                image[k] = image[source];
             }
             object.resize(kMaxRefinePoints);
             image.resize(kMaxRefinePoints);
@@ -402,14 +402,22 @@ void DynamicFilter::decideStrong(const features::FeatureSet& features, DynamicRe
     for (const auto& kp : features.keypoints)
         pts.push_back(kp.pt);
     const features::FeatureGrid grid(pts, levels, maxX, maxY, 32);
-    // Depth-similar neighbours of keypoint i (with depth) within region_radius.
-    auto neighbours = [&](size_t i, auto&& visit)
+    // Depth-similar neighbours of keypoint i (with depth) within region_radius: how many, and
+    // how many of them are flagged in `flags`.
+    auto countNeighbours = [&](size_t i, const std::vector<bool>& flags)
     {
         const float zi = features.depth[i];
+        int near = 0, flagged = 0;
         for (size_t j : grid.query(pts[i].x, pts[i].y, static_cast<float>(params_.region_radius)))
+        {
             if (j != i && features.depth[j] > 0.0F &&
                 std::abs(features.depth[j] - zi) <= params_.region_depth)
-                visit(j);
+            {
+                near++;
+                flagged += flags[j] ? 1 : 0;
+            }
+        }
+        return std::make_pair(near, flagged);
     };
     // Isolated flow evidence: people carry many keypoints that move together, so a keypoint
     // flagged by its flow alone whose depth-similar neighbours are mostly static (at most
@@ -425,13 +433,7 @@ void DynamicFilter::decideStrong(const features::FeatureSet& features, DynamicRe
             auto& e = kps[i];
             if (!e.flow || e.depth || features.depth[i] <= 0.0F)
                 continue;
-            int near = 0, dyn = 0;
-            neighbours(i,
-                       [&](size_t j)
-                       {
-                           near++;
-                           dyn += was[j] ? 1 : 0;
-                       });
+            const auto [near, dyn] = countNeighbours(i, was);
             if (near >= params_.region_min_neighbours && dyn <= params_.isolated_fraction * near)
             {
                 e.isolated = true;
@@ -472,13 +474,7 @@ void DynamicFilter::decideStrong(const features::FeatureSet& features, DynamicRe
                                             static_cast<size_t>(x)];
             if (around == 0)
                 continue;
-            int near = 0, dyn = 0;
-            neighbours(i,
-                       [&](size_t j)
-                       {
-                           near++;
-                           dyn += was[j] ? 1 : 0;
-                       });
+            const auto [near, dyn] = countNeighbours(i, was);
             if (near >= params_.region_min_neighbours && 2 * dyn > near)
             {
                 kps[i].region = true;
