@@ -77,7 +77,8 @@ def f(w):
     # the filter modes give the first frame no pose by design
     return text if w[4] >= w[5] - 1 else text + " (%d of %d frames with a pose)" % (w[4], w[5])
 t = float(twin)
-ok = "yes" if s[0] <= max(1.5 * t, t + 0.01) else "NO"
+# within the bound, and tracked: an RMSE over a few frames says nothing
+ok = "yes" if s[0] <= max(1.5 * t, t + 0.01) and s[4] >= 0.95 * (s[5] - 1) else "NO"
 print("| %s | %s | %s | %s | %s | %s | %.4f | %s | %s |" % (
     name, f(o), f(p), imp(p), f(s), imp(s), t, ok, kp))
 PY
