@@ -11,13 +11,16 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <exception>
 #include <string>
 #include <vector>
 
 #include "BenchStats.h"
+#include "smap/core/InputError.h"
 #include "smap/core/TrackedConfig.h"
 #include "smap/dynamic/DynamicFilter.h"
 #include "smap/io/FrameSource.h"
+#include "smap/pipeline/CommandLine.h"
 #include "smap/sim/SequenceGenerator.h"
 #include "smap/slam/RgbdSlam.h"
 
@@ -33,26 +36,18 @@ struct Prepared
 };
 }  // namespace
 
-int main(int argc, char** argv)
+int run(int argc, char** argv)
 {
-    std::string input, config;
-    int runs = 5;
-    size_t frames = 150;
-    std::vector<std::string> sets;
-    for (int i = 1; i < argc; ++i)
-    {
-        const std::string a = argv[i];
-        if (a == "--config" && i + 1 < argc)
-            config = argv[++i];
-        else if (a == "--runs" && i + 1 < argc)
-            runs = std::stoi(argv[++i]);
-        else if (a == "--frames" && i + 1 < argc)
-            frames = std::stoul(argv[++i]);
-        else if (a == "--set" && i + 1 < argc)
-            sets.emplace_back(argv[++i]);
-        else
-            input = a;
-    }
+    pipeline::CommandLine cl;  // strict: an unknown option is an error, not an input path
+    cl.option("config").option("runs").option("frames").option("set");
+    cl.parse(std::vector<std::string>(argv + 1, argv + argc));
+    if (cl.positionals().size() > 1)
+        throw core::InputError("bench_dynamic takes at most one TUM folder");
+    std::string input = cl.positionals().empty() ? std::string() : cl.positionals()[0];
+    const std::string config = cl.value("config").value_or("");
+    const int runs = static_cast<int>(cl.integer("runs", 5));
+    const auto frames = static_cast<size_t>(cl.integer("frames", 150));
+    const std::vector<std::string> sets = cl.values("set");
     core::TrackedConfig cfg;
     if (!config.empty())
         cfg.loadFile(config);
@@ -146,4 +141,17 @@ int main(int argc, char** argv)
             median(other));
     }
     return 0;
+}
+
+int main(int argc, char** argv)
+{
+    try
+    {
+        return run(argc, argv);
+    }
+    catch (const std::exception& e)
+    {
+        std::fprintf(stderr, "bench_dynamic: error: %s\n", e.what());
+        return 2;
+    }
 }
