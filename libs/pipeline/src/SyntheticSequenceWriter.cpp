@@ -12,6 +12,7 @@
 #include "smap/core/AtomicFile.h"
 #include "smap/core/InputError.h"
 #include "smap/core/JsonWriter.h"
+#include "smap/core/LabelSet.h"
 #include "smap/io/TumTextFormats.h"
 
 namespace fs = std::filesystem;
@@ -24,20 +25,6 @@ void writePng(const fs::path& path, const cv::Mat& img)
 {
     if (!cv::imwrite(path.string(), img))
         throw std::runtime_error("cannot write " + path.string());
-}
-
-/// The PASCAL VOC colour map (bit-interleaved), for overlays.
-cv::Vec3b vocColour(uint8_t label)
-{
-    int r = 0, g = 0, b = 0, c = label;
-    for (int j = 0; j < 8; j++)
-    {
-        r |= ((c >> 0) & 1) << (7 - j);
-        g |= ((c >> 1) & 1) << (7 - j);
-        b |= ((c >> 2) & 1) << (7 - j);
-        c >>= 3;
-    }
-    return {static_cast<uchar>(b), static_cast<uchar>(g), static_cast<uchar>(r)};
 }
 }  // namespace
 
@@ -186,7 +173,7 @@ void writeContactSheet(const std::string& sequenceFolder, size_t count, const st
         {
             for (int u = 0; u < rgb.cols; u++)
             {
-                const cv::Vec3b c = vocColour(labels.at<uint8_t>(v, u));
+                const cv::Vec3b c = core::vocColour(labels.at<uint8_t>(v, u));
                 auto& p = labelOverlay.at<cv::Vec3b>(v, u);
                 if (labels.at<uint8_t>(v, u) != 0 && labels.at<uint8_t>(v, u) != 255)
                     for (int k = 0; k < 3; k++)
