@@ -1,0 +1,383 @@
+#include "smap/segmentation/PermutohedralLattice.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <opencv2/core.hpp>
+
+namespace smap::segmentation
+{
+namespace
+{
+/// a[0..n) == b[0..n) (inlined: tiny arrays, where a memcmp call costs more than the work).
+inline bool sameInts(const int* a, const int* b, int n)
+{
+    for (int i = 0; i < n; i++)
+        if (a[i] != b[i])
+            return false;
+    return true;
+}
+
+/// Open-addressing hash table from d-integer lattice keys to dense vertex ids.
+class KeyTable
+{
+public:
+    KeyTable(int d, size_t expected) : d_(d)
+    {
+        size_t cap = 64;
+        while (cap < 2 * expected)
+            cap *= 2;
+        slots_.assign(cap, -1);
+        mask_ = cap - 1;
+        keys_.reserve(expected * static_cast<size_t>(d));
+    }
+
+    /// The id of `key`, inserting it when `insert`; -1 when absent and not inserting.
+    int find(const int* key, bool insert)
+    {
+        size_t h = hash(key) & mask_;
+        while (true)
+        {
+            const int id = slots_[h];
+            if (id < 0)
+            {
+                if (!insert)
+                    return -1;
+                const int fresh = static_cast<int>(keys_.size() / static_cast<size_t>(d_));
+                keys_.insert(keys_.end(), key, key + d_);
+                slots_[h] = fresh;
+                if (2 * static_cast<size_t>(fresh + 1) > slots_.size())
+                    grow();
+                return fresh;
+            }
+            if (sameInts(key, keys_.data() + static_cast<size_t>(id) * d_, d_))
+                return id;
+            h = (h + 1) & mask_;
+        }
+    }
+
+    int size() const { return static_cast<int>(keys_.size() / static_cast<size_t>(d_)); }
+    const int* key(int id) const { return keys_.data() + static_cast<size_t>(id) * d_; }
+
+private:
+    size_t hash(const int* key) const
+    {
+        uint64_t h = 1469598103934665603ull;
+        for (int k = 0; k < d_; k++)
+            h = (h ^ static_cast<uint32_t>(key[k])) * 1099511628211ull;
+        return static_cast<size_t>(h ^ (h >> 29));
+    }
+
+    void grow()
+    {
+        slots_.assign(slots_.size() * 2, -1);
+        mask_ = slots_.size() - 1;
+        for (int id = 0; id < size(); id++)
+        {
+            size_t h = hash(key(id)) & mask_;
+            while (slots_[h] >= 0)
+                h = (h + 1) & mask_;
+            slots_[h] = id;
+        }
+    }
+
+    int d_;
+    size_t mask_ = 0;
+    std::vector<int> slots_;
+    std::vector<int> keys_;
+};
+/// Point p's enclosing simplex: its remainder-0 corner and ranks (which fix the d+1 vertices)
+/// and barycentric weights. `scale` holds the embedding's per-dimension factors; the buffers
+/// have d+1 (+1) entries.
+void enclosingSimplex(const float* f, int d, const double* scale, int* rem0, int* rank,
+                      float* weights, double* elevated, double* bary)
+{
+    const int d1 = d + 1;
+    const double invD1 = 1.0 / d1;
+    double sum = 0.0;
+    for (int i = d; i >= 1; i--)
+    {
+        const double c = f[i - 1] * scale[i - 1];
+        elevated[i] = sum - i * c;
+        sum += c;
+    }
+    elevated[0] = sum;
+
+    // Nearest point whose coordinates are all multiples of d+1, then the ranks of the
+    // differences (0 = largest).
+    int remSum = 0;
+    double diff[PermutohedralLattice::kMaxDimensions + 1];
+    for (int j = 0; j < d1; j++)
+    {
+        const int r = static_cast<int>(std::floor(elevated[j] * invD1 + 0.5));
+        rem0[j] = r * d1;
+        remSum += r;
+        rank[j] = 0;
+        diff[j] = elevated[j] - rem0[j];
+    }
+    for (int j = 0; j < d1; j++)
+        for (int k = j + 1; k < d1; k++)
+        {
+            const int jSmaller = diff[j] < diff[k] ? 1 : 0;  // branch-free: data-dependent
+            rank[j] += jSmaller;
+            rank[k] += 1 - jSmaller;
+        }
+    // That point must lie on the hyperplane too: move the coordinates rounded furthest.
+    for (int j = 0; j < d1; j++)
+    {
+        if (remSum > 0 && rank[j] >= d1 - remSum)
+        {
+            rem0[j] -= d1;
+            rank[j] += remSum - d1;
+        }
+        else if (remSum < 0 && rank[j] < -remSum)
+        {
+            rem0[j] += d1;
+            rank[j] += d1 + remSum;
+        }
+        else
+        {
+            rank[j] += remSum;
+        }
+    }
+
+    // Barycentric coordinates in the simplex.
+    std::fill(bary, bary + d1 + 1, 0.0);
+    for (int j = 0; j < d1; j++)
+    {
+        const double delta = (elevated[j] - rem0[j]) * invD1;
+        bary[d - rank[j]] += delta;
+        bary[d1 - rank[j]] -= delta;
+    }
+    bary[0] += 1.0 + bary[d1];
+
+    for (int r = 0; r < d1; r++)
+        weights[r] = static_cast<float>(bary[r]);
+}
+}  // namespace
+
+PermutohedralLattice::PermutohedralLattice(const cv::Mat& features)
+{
+    build(features);
+}
+
+void PermutohedralLattice::build(const cv::Mat& features)
+{
+    CV_Assert(features.type() == CV_32FC1 && features.cols >= 1 &&
+              features.cols <= kMaxDimensions && features.rows > 0);
+    d_ = features.cols;
+    n_ = features.rows;
+    const int d = d_, d1 = d_ + 1;
+
+    // Embedding into the hyperplane sum(x) = 0 of R^(d+1) with the orthonormal basis
+    // u_i = (1, ..., 1, -i, 0, ..., 0) / sqrt(i (i+1)) (i ones), scaled so that the lattice
+    // blur below approximates a unit Gaussian: sqrt(2/3) (d+1) (Adams et al., section 3).
+    std::vector<double> scale(static_cast<size_t>(d));
+    const double invStd = std::sqrt(2.0 / 3.0) * d1;
+    for (int i = 1; i <= d; i++)
+        scale[static_cast<size_t>(i - 1)] = invStd / std::sqrt(static_cast<double>(i) * (i + 1));
+
+    // Simplices of all points in parallel, then the vertices hashed in point order (so vertex
+    // ids, and every result, do not depend on the thread count).
+    // rem0_/rank_ and the other buffers keep their capacity from build to build.
+    rem0_.resize(static_cast<size_t>(n_) * d1);
+    rank_.resize(static_cast<size_t>(n_) * d1);
+    std::vector<int>& rem0 = rem0_;
+    std::vector<int>& rank = rank_;
+    weightOfPoint_.resize(static_cast<size_t>(n_) * d1);
+    cv::parallel_for_(cv::Range(0, n_),
+                      [&](const cv::Range& range)
+                      {
+                          double elevated[kMaxDimensions + 1];
+                          double bary[kMaxDimensions + 2];
+                          for (int p = range.start; p < range.end; p++)
+                          {
+                              const size_t at = static_cast<size_t>(p) * d1;
+                              enclosingSimplex(features.ptr<float>(p), d, scale.data(),
+                                               rem0.data() + at, rank.data() + at,
+                                               weightOfPoint_.data() + at, elevated, bary);
+                          }
+                      });
+    // Images have far fewer vertices than points (about 1 in 7 at 320x240); the table grows.
+    KeyTable table(d, static_cast<size_t>(n_) / 8);
+    vertexOfPoint_.resize(static_cast<size_t>(n_) * d1);
+    std::vector<int> key(static_cast<size_t>(d));
+    for (int p = 0; p < n_; p++)
+    {
+        const size_t at = static_cast<size_t>(p) * d1;
+        const int* r0 = rem0.data() + at;
+        const int* rk = rank.data() + at;
+        int* v = vertexOfPoint_.data() + at;
+        // Neighbouring pixels often share a simplex: reuse the previous point's vertices.
+        if (p > 0 && sameInts(r0, r0 - d1, d1) && sameInts(rk, rk - d1, d1))
+        {
+            std::copy(v - d1, v, v);
+            continue;
+        }
+        // Vertex r: the remainder-0 corner plus the canonical simplex's vertex r.
+        for (int r = 0; r < d1; r++)
+        {
+            for (int j = 0; j < d; j++)
+                key[static_cast<size_t>(j)] = r0[j] + (rk[j] > d - r ? r - d1 : r);
+            v[r] = table.find(key.data(), true);
+        }
+    }
+    const int m = table.size();
+    vertexCount_ = m;
+
+    // Neighbours along each lattice axis j: +-(1, ..., 1, -d, 1, ..., 1) (-d at j).
+    neighbours_.assign(static_cast<size_t>(m) * d1 * 2, -1);
+    std::vector<int> nb(static_cast<size_t>(d));
+    for (int v = 0; v < m; v++)
+    {
+        const int* k = table.key(v);
+        for (int j = 0; j < d1; j++)
+            for (int sgn = 0; sgn < 2; sgn++)
+            {
+                const int s = sgn == 0 ? -1 : 1;
+                for (int i = 0; i < d; i++)
+                    nb[static_cast<size_t>(i)] = k[i] + s * (i == j ? -d : 1);
+                neighbours_[(static_cast<size_t>(v) * d1 + j) * 2 + sgn] =
+                    table.find(nb.data(), false);
+            }
+    }
+}
+
+namespace
+{
+// The hot loops, compiled for AVX2 too and picked at run time (GCC function multiversioning):
+// the channel loops vectorise, in blocks of 8 (callers pad channels to a multiple of 8).
+
+/// dst += w src over c channels.
+inline void axpy(float* __restrict dst, const float* __restrict src, float w, int c)
+{
+    int k = 0;
+    for (; k + 8 <= c; k += 8)
+        for (int j = 0; j < 8; j++)
+            dst[k + j] += w * src[k + j];
+    for (; k < c; k++)
+        dst[k] += w * src[k];
+}
+
+/// acc[vertex] += w * in[point] over the simplices of points [begin, end).
+__attribute__((target_clones("avx2", "default"))) void splatPoints(
+    const float* in, const float* inScale, int c, int begin, int end, int d1,
+    const int* vertexOfPoint, const float* weightOfPoint, float* acc)
+{
+    for (int p = begin; p < end; p++)
+    {
+        const float* __restrict src = in + static_cast<size_t>(p) * c;
+        const float scale = inScale ? inScale[p] : 1.0f;
+        for (int r = 0; r < d1; r++)
+        {
+            const size_t slot = static_cast<size_t>(p) * d1 + r;
+            const float w = weightOfPoint[slot] * scale;
+            axpy(acc + static_cast<size_t>(vertexOfPoint[slot]) * c, src, w, c);
+        }
+    }
+}
+
+/// One blur pass along an axis: dst[v] = src[v] + (src[n1] + src[n2]) / 2.
+__attribute__((target_clones("avx2", "default"))) void blurVertices(const float* src, float* dst,
+                                                                    int c, int begin, int end,
+                                                                    int d1, int axis,
+                                                                    const int* neighbours)
+{
+    for (int v = begin; v < end; v++)
+    {
+        const float* __restrict self = src + static_cast<size_t>(v) * c;
+        float* __restrict out = dst + static_cast<size_t>(v) * c;
+        for (int k = 0; k < c; k++)
+            out[k] = self[k];
+        for (int sgn = 0; sgn < 2; sgn++)
+        {
+            const int nb = neighbours[(static_cast<size_t>(v) * d1 + axis) * 2 + sgn];
+            if (nb < 0)
+                continue;
+            axpy(out, src + static_cast<size_t>(nb) * c, 0.5f, c);
+        }
+    }
+}
+
+/// out[point] = s_p sum_r w_r values[vertex_r] for points [begin, end).
+__attribute__((target_clones("avx2", "default"))) void slicePoints(
+    const float* values, const float* outScale, float outWeight, int c, int begin, int end, int d1,
+    const int* vertexOfPoint, const float* weightOfPoint, float* out)
+{
+    for (int p = begin; p < end; p++)
+    {
+        float* __restrict dst = out + static_cast<size_t>(p) * c;
+        for (int k = 0; k < c; k++)
+            dst[k] = 0.0f;
+        const float scale = outWeight * (outScale ? outScale[p] : 1.0f);
+        for (int r = 0; r < d1; r++)
+        {
+            const size_t slot = static_cast<size_t>(p) * d1 + r;
+            const float w = weightOfPoint[slot] * scale;
+            axpy(dst, values + static_cast<size_t>(vertexOfPoint[slot]) * c, w, c);
+        }
+    }
+}
+}  // namespace
+
+void PermutohedralLattice::splatAndBlur(const cv::Mat& in, cv::Mat& values,
+                                        const float* inScale) const
+{
+    CV_Assert(in.type() == CV_32FC1 && in.rows == n_ && in.isContinuous());
+    const int c = in.cols, d1 = d_ + 1, m = vertexCount();
+
+    // Splat: each stripe of points scatters into its own copy of the (small, cache-resident)
+    // vertex array; the copies are summed.
+    const int stripes = std::max(1, std::min(cv::getNumThreads(), 8));
+    std::vector<cv::Mat> partial(static_cast<size_t>(stripes));
+    cv::parallel_for_(
+        cv::Range(0, stripes),
+        [&](const cv::Range& range)
+        {
+            for (int st = range.start; st < range.end; st++)
+            {
+                cv::Mat& acc = partial[static_cast<size_t>(st)];
+                acc = cv::Mat::zeros(m, c, CV_32FC1);
+                const int begin = static_cast<int>(static_cast<int64_t>(n_) * st / stripes);
+                const int end = static_cast<int>(static_cast<int64_t>(n_) * (st + 1) / stripes);
+                splatPoints(in.ptr<float>(), inScale, c, begin, end, d1, vertexOfPoint_.data(),
+                            weightOfPoint_.data(), acc.ptr<float>());
+            }
+        },
+        stripes);
+    values = partial[0];
+    for (size_t st = 1; st < partial.size(); st++)
+        values += partial[st];
+
+    cv::Mat blurred(m, c, CV_32FC1);
+    for (int j = 0; j < d1; j++)
+    {
+        cv::parallel_for_(
+            cv::Range(0, m),
+            [&](const cv::Range& range)
+            {
+                blurVertices(values.ptr<float>(), blurred.ptr<float>(), c, range.start, range.end,
+                             d1, j, neighbours_.data());
+            },
+            stripes);
+        std::swap(values, blurred);
+    }
+}
+
+void PermutohedralLattice::filter(const cv::Mat& in, cv::Mat& out, const float* inScale,
+                                  const float* outScale, float outWeight) const
+{
+    cv::Mat values;
+    splatAndBlur(in, values, inScale);
+    out.create(n_, in.cols, CV_32FC1);
+    const int stripes = std::max(1, std::min(cv::getNumThreads(), 8));
+    cv::parallel_for_(
+        cv::Range(0, n_),
+        [&](const cv::Range& range)
+        {
+            slicePoints(values.ptr<float>(), outScale, outWeight, in.cols, range.start, range.end,
+                        d_ + 1, vertexOfPoint_.data(), weightOfPoint_.data(), out.ptr<float>());
+        },
+        stripes);
+}
+}  // namespace smap::segmentation

@@ -1,0 +1,116 @@
+// Label images from disk: matched by name or timestamp, void pixels, errors naming the file.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <opencv2/imgcodecs.hpp>
+
+#include "TestData.h"
+#include "smap/core/LabelSet.h"
+#include "smap/segmentation/LabelImageSegmenter.h"
+#include "smap/segmentation/SegmentationParameters.h"
+
+using namespace smap;
+using segmentation::LabelImageParameters;
+using segmentation::LabelImageSegmenter;
+
+namespace
+{
+core::RgbdFrame frame(const std::string& name, double t, int w = 8, int h = 6)
+{
+    core::RgbdFrame f;
+    f.colour = cv::Mat(h, w, CV_8UC3, cv::Scalar::all(0));
+    f.name = name;
+    f.timestamp = t;
+    return f;
+}
+
+cv::Mat labelImage(int first, int second)
+{
+    cv::Mat l(6, 8, CV_8UC1, cv::Scalar(first));
+    l(cv::Rect(4, 0, 4, 6)).setTo(second);
+    return l;
+}
+}  // namespace
+
+TEST(LabelImageSegmenter, MatchesByNameWithConfidence)
+{
+    test::TempDir dir;
+    cv::imwrite(dir / "000001.png", labelImage(15, 9));
+    cv::Mat l = labelImage(0, 20);
+    l.at<uint8_t>(0, 0) = 255;
+    cv::imwrite(dir / "000002.png", l);
+    LabelImageParameters p;
+    p.folder = dir.str();
+    LabelImageSegmenter seg(p, core::LabelSet::pascalVoc());
+    const auto r = seg.segment(frame("000001", 0.0));
+    EXPECT_EQ(r.labels.at<uint8_t>(3, 1), 15);
+    EXPECT_EQ(r.labels.at<uint8_t>(3, 6), 9);
+    EXPECT_FLOAT_EQ(r.probabilities.at<float>(15, 0), 0.9f);
+    EXPECT_FLOAT_EQ(r.probabilities.at<float>(0, 0), 0.1f / 20.0f);
+
+    const auto r2 = seg.segment(frame("000002", 0.0));
+    EXPECT_EQ(r2.labels.at<uint8_t>(0, 0), 255);
+    EXPECT_FLOAT_EQ(r2.probabilities.at<float>(7, 0), 1.0f / 21.0f);
+    EXPECT_EQ(r2.labels.at<uint8_t>(5, 7), 20);
+
+    // A frame of twice the size: probabilities resampled, labels from them.
+    const auto big = seg.segment(frame("000001", 0.0, 16, 12));
+    EXPECT_EQ(big.width(), 16);
+    EXPECT_EQ(big.labels.at<uint8_t>(6, 2), 15);
+
+    const std::string e = test::inputErrorOf([&] { seg.segment(frame("000003", 0.0)); });
+    EXPECT_NE(e.find("000003"), std::string::npos) << e;
+}
+
+TEST(LabelImageSegmenter, MatchesByNearestTimestamp)
+{
+    test::TempDir dir;
+    cv::imwrite(dir / "1305031102.175304.png", labelImage(15, 15));
+    cv::imwrite(dir / "1305031102.211214.png", labelImage(9, 9));
+    LabelImageParameters p;
+    p.folder = dir.str();
+    p.match = "timestamp";
+    LabelImageSegmenter seg(p, core::LabelSet::pascalVoc());
+    EXPECT_EQ(seg.segment(frame("x", 1305031102.180)).labels.at<uint8_t>(0, 0), 15);
+    EXPECT_EQ(seg.segment(frame("x", 1305031102.200)).labels.at<uint8_t>(0, 0), 9);
+    EXPECT_NE(test::inputErrorOf([&] { seg.segment(frame("x", 1305031103.0)); }).find("no label"),
+              std::string::npos);
+}
+
+TEST(LabelImageSegmenter, BadImagesAreErrorsNamingTheFile)
+{
+    test::TempDir dir;
+    cv::imwrite(dir / "a.png", labelImage(0, 40));  // 40 is not a VOC id
+    cv::imwrite(dir / "b.png", cv::Mat(6, 8, CV_8UC3, cv::Scalar::all(1)));
+    cv::imwrite(dir / "c.png", cv::Mat(6, 6, CV_8UC1, cv::Scalar::all(1)));
+    LabelImageParameters p;
+    p.folder = dir.str();
+    LabelImageSegmenter seg(p, core::LabelSet::pascalVoc());
+    for (const char* name : {"a", "b", "c"})
+    {
+        const std::string e = test::inputErrorOf([&] { seg.segment(frame(name, 0.0)); });
+        EXPECT_NE(e.find(std::string(name) + ".png"), std::string::npos) << e;
+    }
+    p.folder = dir / "nowhere";
+    EXPECT_NE(test::inputErrorOf([&] { LabelImageSegmenter s(p, core::LabelSet::pascalVoc()); })
+                  .find("nowhere"),
+              std::string::npos);
+}
+
+TEST(LabelSet, ShippedVocTableEqualsTheBuiltInOne)
+{
+    const auto shipped = core::LabelSet::loadCsv(test::sourceDir() + "/config/labels/voc.csv");
+    EXPECT_EQ(shipped.toCsv(), core::LabelSet::pascalVoc().toCsv());
+    EXPECT_EQ(shipped.idOf("person"), 15);
+    EXPECT_EQ(shipped.idOf("tvmonitor"), 20);
+    EXPECT_EQ(shipped[15].colourBgr, cv::Vec3b(128, 128, 192));
+
+    test::TempDir dir;
+    {
+        std::ofstream f(dir / "bad.csv");
+        f << "id,name,r,g,b,dynamic_prior\n0,background,0,0,0,0\n2,person,1,2,3,0.9\n";
+    }
+    const std::string e = test::inputErrorOf([&] { core::LabelSet::loadCsv(dir / "bad.csv"); });
+    EXPECT_NE(e.find("bad.csv"), std::string::npos) << e;
+    EXPECT_NE(e.find("person"), std::string::npos) << e;
+}
