@@ -4,13 +4,17 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <opencv2/imgcodecs.hpp>
 #include <optional>
+#include <sstream>
 #include <vector>
 
 #include "smap/core/AtomicFile.h"
 #include "smap/core/InputError.h"
+#include "smap/core/LabelSet.h"
 #include "smap/eval/EvalReport.h"
 #include "smap/eval/KeypointDetectionScore.h"
+#include "smap/eval/SegmentationScore.h"
 #include "smap/eval/TrajectoryPlot.h"
 #include "smap/io/TumTextFormats.h"
 #include "smap/pipeline/CommandLine.h"
@@ -59,6 +63,66 @@ int scoreKeypoints(const std::string& maskDir, const std::string& debugDir,
     return kExitOk;
 }
 
+/// smap-eval segmentation: every PRED_DIR/*.png against GT_DIR/<same name>.
+int scoreSegmentation(const std::string& gtDir, const std::string& predDir, const CommandLine& cl,
+                      std::ostream& out)
+{
+    namespace fs = std::filesystem;
+    if (!fs::is_directory(gtDir) || !fs::is_directory(predDir))
+        throw core::InputError(
+            mrpt::format("'%s' and '%s' must both be folders", gtDir.c_str(), predDir.c_str()));
+    const core::LabelSet labels = cl.has("labels") ? core::LabelSet::loadCsv(*cl.value("labels"))
+                                                   : core::LabelSet::pascalVoc();
+    std::vector<std::pair<int, std::string>> classes;
+    std::stringstream names(cl.value("classes").value_or("person,chair,tvmonitor"));
+    for (std::string n; std::getline(names, n, ',');)
+        if (!n.empty())
+            classes.emplace_back(labels.idOf(n), n);
+    eval::SegmentationScoreOptions o;
+    o.iouThreshold = cl.number("iou-threshold", o.iouThreshold);
+    o.minAreaFraction = cl.number("min-area", o.minAreaFraction);
+    o.bandRadius = static_cast<int>(cl.integer("band", o.bandRadius));
+    if (const auto v = cl.value("void"))
+        o.voidLabel = *v == "none" ? -1 : static_cast<int>(cl.integer("void", 255));
+    if (!(o.iouThreshold > 0.0 && o.iouThreshold <= 1.0) ||
+        !(o.minAreaFraction >= 0.0 && o.minAreaFraction < 1.0) || o.bandRadius < 0 ||
+        o.voidLabel > 255)
+        throw core::InputError(
+            "--iou-threshold must be in (0, 1], --min-area in [0, 1), --band >= 0, --void "
+            "0-255 or none");
+
+    std::vector<fs::path> predictions;
+    for (const auto& e : fs::directory_iterator(predDir))
+        if (e.path().extension() == ".png")
+            predictions.push_back(e.path());
+    std::sort(predictions.begin(), predictions.end());
+    if (predictions.empty())
+        throw core::InputError("'" + predDir + "' has no label images (run smap-segment)");
+    eval::SegmentationScore score(classes, o);
+    for (const auto& p : predictions)
+    {
+        const fs::path gt = fs::path(gtDir) / p.filename();
+        if (!fs::exists(gt))
+            throw core::InputError(mrpt::format("'%s' has no ground truth '%s'", p.string().c_str(),
+                                                gt.string().c_str()));
+        const cv::Mat truth = cv::imread(gt.string(), cv::IMREAD_UNCHANGED);
+        const cv::Mat pred = cv::imread(p.string(), cv::IMREAD_UNCHANGED);
+        for (const auto& [img, path] : {std::pair{truth, gt}, std::pair{pred, p}})
+            if (img.empty() || img.type() != CV_8UC1)
+                throw core::InputError("'" + path.string() +
+                                       "' is not an 8-bit single-channel label image");
+        if (truth.size() != pred.size())
+            throw core::InputError(mrpt::format("'%s' is %dx%d but its ground truth '%s' is %dx%d",
+                                                p.string().c_str(), pred.cols, pred.rows,
+                                                gt.string().c_str(), truth.cols, truth.rows));
+        score.addFrame(truth, pred);
+    }
+    out << score.toText();
+    if (const auto j = cl.value("json"))
+        writeJson(*j, score.toJson());
+    return kExitOk;
+}
+
 int parseAxis(char c)
 {
     if (c < 'x' || c > 'z')
@@ -75,10 +139,20 @@ std::string EvalApp::usage()
            "  smap-eval rpe GT EST [--delta D] [--delta-unit s|frames] [--json FILE] [--max-dt S]\n"
            "                       [--offset S]\n"
            "  smap-eval keypoints MASK_DIR DEBUG_DIR [--json FILE]\n"
+           "  smap-eval segmentation GT_DIR PRED_DIR [--classes a,b] [--void ID|none]\n"
+           "                       [--min-area F] [--iou-threshold T] [--band PX] [--labels CSV]\n"
+           "                       [--json FILE]\n"
            "\n"
            "keypoints: dynamic-keypoint recall and precision of semantic-mapper --dynamic-debug\n"
            "  tables (DEBUG_DIR/NNNNNN.csv) against ground-truth masks (MASK_DIR/NNNNNN.png,\n"
            "  e.g. the dynamic/ folder smap-synth writes).\n"
+           "segmentation: the paper's Table III per-class frame scores (TP/FN/FP/TN, FPR, FNR,\n"
+           "  Re, Pr, PWC; correctly segmented = IoU >= --iou-threshold, default 0.5), pixel IoU\n"
+           "  and IoU within --band px (default 5) of true class edges, for every PRED_DIR/*.png\n"
+           "  (smap-segment's output) against GT_DIR/<same name> (e.g. smap-synth's labels/).\n"
+           "  --classes (default person,chair,tvmonitor), --void: ground-truth id left out of\n"
+           "  scoring (default 255; 'none' scores every pixel), --min-area: fraction of the\n"
+           "  pixels a class must cover to count as present or predicted (default 0.001).\n"
            "GT and EST are TUM trajectory files (timestamp tx ty tz qx qy qz qw).\n"
            "  --max-dt S    association tolerance in seconds (default 0.02)\n"
            "  --offset S    added to EST timestamps before association (default 0)\n"
@@ -95,6 +169,8 @@ int EvalApp::run(const std::vector<std::string>& args, std::ostream& out)
     CommandLine cl;
     cl.option("json").option("plot").option("axes").option("max-dt").option("offset");
     cl.option("delta").option("delta-unit").flag("scale").flag("help");
+    cl.option("classes").option("void").option("min-area").option("iou-threshold").option("band");
+    cl.option("labels");
     cl.parse(args);
     if (cl.has("help"))
     {
@@ -102,12 +178,16 @@ int EvalApp::run(const std::vector<std::string>& args, std::ostream& out)
         return kExitOk;
     }
     const auto& pos = cl.positionals();
-    if (pos.size() != 3 || (pos[0] != "ate" && pos[0] != "rpe" && pos[0] != "keypoints"))
+    if (pos.size() != 3 ||
+        (pos[0] != "ate" && pos[0] != "rpe" && pos[0] != "keypoints" && pos[0] != "segmentation"))
         throw core::InputError(
-            "expected 'smap-eval ate GT EST', 'smap-eval rpe GT EST' or "
-            "'smap-eval keypoints MASK_DIR DEBUG_DIR' (see --help)");
+            "expected 'smap-eval ate GT EST', 'smap-eval rpe GT EST', "
+            "'smap-eval keypoints MASK_DIR DEBUG_DIR' or 'smap-eval segmentation GT_DIR "
+            "PRED_DIR' (see --help)");
     if (pos[0] == "keypoints")
         return scoreKeypoints(pos[1], pos[2], cl.value("json"), out);
+    if (pos[0] == "segmentation")
+        return scoreSegmentation(pos[1], pos[2], cl, out);
     const auto gt = io::readTumTrajectory(pos[1]);
     const auto est = io::readTumTrajectory(pos[2]);
 
