@@ -148,3 +148,18 @@ TEST(TrackedConfig, ParserAndValueFailuresBecomeInputErrorsNamingTheSource)
     cfg.loadText("[s]\nm = 1\n", "m.ini");
     EXPECT_THROW(cfg.load(strict), InputError);
 }
+
+TEST(TrackedConfig, LaterFilesMergeOverEarlierOnes)
+{
+    smap::test::TempDir dir;
+    std::ofstream(dir / "camera.ini") << "[tum]\ndepth_factor = 1000\nmax_dt = 0.03\n";
+    std::ofstream(dir / "seg.ini") << "[tum]\nmax_dt = 0.05\n[crf]\niterations = 7\n";
+    TrackedConfig cfg;
+    cfg.loadFile(dir / "camera.ini");
+    cfg.mergeFile(dir / "seg.ini");
+    EXPECT_DOUBLE_EQ(cfg.read_double("tum", "depth_factor", 0.0), 1000.0);
+    EXPECT_DOUBLE_EQ(cfg.read_double("tum", "max_dt", 0.0), 0.05);
+    EXPECT_EQ(cfg.read_int("crf", "iterations", 0), 7);
+    EXPECT_NE(cfg.sourceName().find("seg.ini"), std::string::npos);
+    EXPECT_THROW(cfg.mergeFile(dir / "missing.ini"), InputError);
+}

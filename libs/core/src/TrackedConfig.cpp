@@ -156,6 +156,21 @@ void TrackedConfig::loadYamlText(const std::string& yamlText, const std::string&
     setContentChecked(yamlToIni(yamlText, sourceName));
 }
 
+void TrackedConfig::mergeFile(const std::string& path)
+{
+    TrackedConfig other;
+    other.loadFile(path);
+    std::vector<std::string> sections, keys;
+    other.getAllSections(sections);
+    for (const auto& section : sections)
+    {
+        other.getAllKeys(section, keys);
+        for (const auto& key : keys)
+            write(section, key, other.CConfigFileMemory::readString(section, key, ""));
+    }
+    sourceName_ += " + " + path;
+}
+
 void TrackedConfig::applyOverride(const std::string& assignment)
 {
     const auto eq = assignment.find('=');

@@ -8,8 +8,16 @@ void loadAppConfiguration(const CommandLine& cl,
                           const std::vector<mrpt::config::CLoadableOptions*>& params)
 {
     core::TrackedConfig cfg;
-    if (const auto c = cl.value("config"))
-        cfg.loadFile(*c);
+    // Several --config files apply in order, later keys over earlier ones (a camera preset
+    // plus a segmentation configuration, say).
+    const auto files = cl.values("config");
+    for (size_t i = 0; i < files.size(); i++)
+    {
+        if (i == 0)
+            cfg.loadFile(files[i]);
+        else
+            cfg.mergeFile(files[i]);
+    }
     for (const auto& s : cl.values("set"))
         cfg.applyOverride(s);
     for (auto* p : params)

@@ -44,8 +44,8 @@ SegmentApp::SegmentApp() : COutputLogger("smap-segment") {}
 
 std::string SegmentApp::usage()
 {
-    return "Usage: smap-segment --config FILE INPUT OUTDIR [--every N] [--max-frames N]\n"
-           "                    [--set section.key=value]... [--no-overlay]\n"
+    return "Usage: smap-segment --config FILE [--config FILE]... INPUT OUTDIR [--every N]\n"
+           "                    [--max-frames N] [--set section.key=value]... [--no-overlay]\n"
            "\n"
            "Segments the frames of INPUT (a TUM RGB-D folder or an MRPT rawlog) with the\n"
            "configured segmenter ([segmentation], [onnx], [label_images], [crf]; e.g.\n"
@@ -54,6 +54,9 @@ std::string SegmentApp::usage()
            "                             <stem> = the input colour image's file stem\n"
            "  OUTDIR/overlay/<stem>.png  the colour image with the labels blended in\n"
            "and OUTDIR/segmentation.json (segmenter, frames, median time per frame).\n"
+           "Several --config files apply in order (a camera preset, then the segmenter), e.g.\n"
+           "  smap-segment --config config/7scenes.ini --config config/espnetv2_voc.ini \\\n"
+           "      ../shared/data/7scenes-redkitchen out/kitchen-labels --every 10\n"
            "  --every N       segment every Nth frame (default 1)\n"
            "  --max-frames N  stop after N input frames (default: all)\n"
            "  --no-overlay    label images only\n"

@@ -24,6 +24,8 @@ public:
     void loadText(const std::string& iniText, const std::string& sourceName);
     /// Loads YAML text: top-level sections of "key: value" pairs (two levels, as INI).
     void loadYamlText(const std::string& yamlText, const std::string& sourceName);
+    /// Loads another file (INI or YAML) on top: its keys replace or add to the present ones.
+    void mergeFile(const std::string& path);
     /// Applies "section.key=value" (as given to --set). Throws InputError when malformed.
     void applyOverride(const std::string& assignment);
 

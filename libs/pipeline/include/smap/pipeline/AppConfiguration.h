@@ -1,5 +1,6 @@
-// Configuration of an app run: --config FILE, then every --set section.key=value, loaded into
-// all of the app's parameter structs at once so that unknown keys are caught before any work.
+// Configuration of an app run: every --config FILE in order, then every --set section.key=value,
+// loaded into all of the app's parameter structs at once so that unknown keys are caught before any
+// work.
 #pragma once
 
 #include <mrpt/config/CLoadableOptions.h>
