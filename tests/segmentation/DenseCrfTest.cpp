@@ -136,17 +136,18 @@ double agreement(const cv::Mat& a, const cv::Mat& b)
 
 TEST(PermutohedralLattice, NormalisedFilteringMatchesAUnitGaussian)
 {
-    for (const int d : {2, 5})
+    // Offset 0: small lattice coordinates (packed keys); 900: large ones (the general path).
+    for (const auto& [d, offset] : {std::pair{2, 0.0f}, std::pair{5, 0.0f}, std::pair{5, 900.0f}})
     {
         std::mt19937 rng(7 + d);
-        std::uniform_real_distribution<float> pos(0.0f, 4.0f);
+        std::uniform_real_distribution<float> pos(offset, offset + 4.0f);
         const int n = 1500;
         cv::Mat f(n, d, CV_32FC1), x(n, 2, CV_32FC1);
         for (int i = 0; i < n; i++)
         {
             for (int c = 0; c < d; c++)
                 f.at<float>(i, c) = pos(rng);
-            x.at<float>(i, 0) = f.at<float>(i, 0) > 2.0f ? 1.0f : 0.0f;  // a step
+            x.at<float>(i, 0) = f.at<float>(i, 0) > offset + 2.0f ? 1.0f : 0.0f;  // a step
             x.at<float>(i, 1) = 1.0f;
         }
         const PermutohedralLattice lattice(f);

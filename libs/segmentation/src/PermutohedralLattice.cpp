@@ -18,23 +18,33 @@ inline bool sameInts(const int* a, const int* b, int n)
     return true;
 }
 
-/// Open-addressing hash table from d-integer lattice keys to dense vertex ids.
+/// Open-addressing hash table from d-integer lattice keys to dense vertex ids. When every
+/// coordinate fits in 12 bits and d <= 5 (images: always), keys are also packed into one
+/// 64-bit word, which makes hashing and comparing one operation each.
 class KeyTable
 {
 public:
-    KeyTable(int d, size_t expected) : d_(d)
+    static constexpr int kPackBits = 12;
+    static constexpr int kPackLimit = 1 << (kPackBits - 1);  ///< |coordinate| < this
+
+    KeyTable(int d, size_t expected, bool packed) : d_(d), packed_(packed)
     {
         size_t cap = 64;
         while (cap < 2 * expected)
             cap *= 2;
         slots_.assign(cap, -1);
         mask_ = cap - 1;
-        keys_.reserve(expected * static_cast<size_t>(d));
+        if (packed_)
+            packedKeys_.reserve(expected);
+        else
+            keys_.reserve(expected * static_cast<size_t>(d));
     }
 
     /// The id of `key`, inserting it when `insert`; -1 when absent and not inserting.
     int find(const int* key, bool insert)
     {
+        if (packed_)
+            return findPacked(pack(key), insert);
         size_t h = hash(key) & mask_;
         while (true)
         {
@@ -43,7 +53,7 @@ public:
             {
                 if (!insert)
                     return -1;
-                const int fresh = static_cast<int>(keys_.size() / static_cast<size_t>(d_));
+                const int fresh = size();
                 keys_.insert(keys_.end(), key, key + d_);
                 slots_[h] = fresh;
                 if (2 * static_cast<size_t>(fresh + 1) > slots_.size())
@@ -56,16 +66,72 @@ public:
         }
     }
 
-    int size() const { return static_cast<int>(keys_.size() / static_cast<size_t>(d_)); }
+    /// find() for a packed key (packed mode only).
+    int findPacked(uint64_t p, bool insert)
+    {
+        size_t h = hashPacked(p) & mask_;
+        while (true)
+        {
+            const int id = slots_[h];
+            if (id < 0)
+            {
+                if (!insert)
+                    return -1;
+                const int fresh = size();
+                packedKeys_.push_back(p);
+                slots_[h] = fresh;
+                if (2 * static_cast<size_t>(fresh + 1) > slots_.size())
+                    grow();
+                return fresh;
+            }
+            if (packedKeys_[static_cast<size_t>(id)] == p)
+                return id;
+            h = (h + 1) & mask_;
+        }
+    }
+
+    bool packed() const { return packed_; }
+    uint64_t packedKey(int id) const { return packedKeys_[static_cast<size_t>(id)]; }
+    /// The packed form of an offset: adding it to a packed key adds `delta` coordinate-wise
+    /// (no field leaves its range, by the packing condition, so nothing carries across).
+    uint64_t packedOffset(const int* delta) const
+    {
+        uint64_t p = 0;
+        for (int k = 0; k < d_; k++)
+            p += static_cast<uint64_t>(static_cast<int64_t>(delta[k]) << (kPackBits * k));
+        return p;
+    }
+    uint64_t pack(const int* key) const
+    {
+        uint64_t p = 0;
+        for (int k = 0; k < d_; k++)
+            p |= static_cast<uint64_t>(key[k] + kPackLimit) << (kPackBits * k);
+        return p;
+    }
+
+    int size() const
+    {
+        return packed_ ? static_cast<int>(packedKeys_.size())
+                       : static_cast<int>(keys_.size() / static_cast<size_t>(d_));
+    }
     const int* key(int id) const { return keys_.data() + static_cast<size_t>(id) * d_; }
 
 private:
+    static size_t hashPacked(uint64_t p)
+    {
+        const uint64_t h = p * 0x9E3779B97F4A7C15ull;
+        return static_cast<size_t>(h ^ (h >> 32));
+    }
     size_t hash(const int* key) const
     {
         uint64_t h = 1469598103934665603ull;
         for (int k = 0; k < d_; k++)
             h = (h ^ static_cast<uint32_t>(key[k])) * 1099511628211ull;
         return static_cast<size_t>(h ^ (h >> 29));
+    }
+    size_t slotHash(int id) const
+    {
+        return packed_ ? hashPacked(packedKeys_[static_cast<size_t>(id)]) : hash(key(id));
     }
 
     void grow()
@@ -74,7 +140,7 @@ private:
         mask_ = slots_.size() - 1;
         for (int id = 0; id < size(); id++)
         {
-            size_t h = hash(key(id)) & mask_;
+            size_t h = slotHash(id) & mask_;
             while (slots_[h] >= 0)
                 h = (h + 1) & mask_;
             slots_[h] = id;
@@ -82,10 +148,13 @@ private:
     }
 
     int d_;
+    bool packed_;
     size_t mask_ = 0;
     std::vector<int> slots_;
     std::vector<int> keys_;
+    std::vector<uint64_t> packedKeys_;
 };
+
 /// Point p's enclosing simplex: its remainder-0 corner and ranks (which fix the d+1 vertices)
 /// and barycentric weights. `scale` holds the embedding's per-dimension factors; the buffers
 /// have d+1 (+1) entries.
@@ -199,7 +268,12 @@ void PermutohedralLattice::build(const cv::Mat& features)
                           }
                       });
     // Images have far fewer vertices than points (about 1 in 7 at 320x240); the table grows.
-    KeyTable table(d, static_cast<size_t>(n_) / 8);
+    // Vertex coordinates stay within rem0 +- (d+1), neighbours' within +- 2 (d+1) more.
+    int largest = 0;
+    for (const int r : rem0)
+        largest = std::max(largest, std::abs(r));
+    const bool packable = d * KeyTable::kPackBits <= 64 && largest + 3 * d1 < KeyTable::kPackLimit;
+    KeyTable table(d, static_cast<size_t>(n_) / 8, packable);
     vertexOfPoint_.resize(static_cast<size_t>(n_) * d1);
     std::vector<int> key(static_cast<size_t>(d));
     for (int p = 0; p < n_; p++)
@@ -219,7 +293,8 @@ void PermutohedralLattice::build(const cv::Mat& features)
         {
             for (int j = 0; j < d; j++)
                 key[static_cast<size_t>(j)] = r0[j] + (rk[j] > d - r ? r - d1 : r);
-            v[r] = table.find(key.data(), true);
+            v[r] = packable ? table.findPacked(table.pack(key.data()), true)
+                            : table.find(key.data(), true);
         }
     }
     const int m = table.size();
@@ -228,17 +303,31 @@ void PermutohedralLattice::build(const cv::Mat& features)
     // Neighbours along each lattice axis j: +-(1, ..., 1, -d, 1, ..., 1) (-d at j).
     neighbours_.assign(static_cast<size_t>(m) * d1 * 2, -1);
     std::vector<int> nb(static_cast<size_t>(d));
-    for (int v = 0; v < m; v++)
-    {
-        const int* k = table.key(v);
+    std::vector<uint64_t> step(static_cast<size_t>(d1) * 2);
+    if (packable)
         for (int j = 0; j < d1; j++)
             for (int sgn = 0; sgn < 2; sgn++)
             {
-                const int s = sgn == 0 ? -1 : 1;
                 for (int i = 0; i < d; i++)
-                    nb[static_cast<size_t>(i)] = k[i] + s * (i == j ? -d : 1);
-                neighbours_[(static_cast<size_t>(v) * d1 + j) * 2 + sgn] =
-                    table.find(nb.data(), false);
+                    nb[static_cast<size_t>(i)] = (sgn == 0 ? -1 : 1) * (i == j ? -d : 1);
+                step[static_cast<size_t>(j) * 2 + sgn] = table.packedOffset(nb.data());
+            }
+    for (int v = 0; v < m; v++)
+    {
+        for (int j = 0; j < d1; j++)
+            for (int sgn = 0; sgn < 2; sgn++)
+            {
+                int& out = neighbours_[(static_cast<size_t>(v) * d1 + j) * 2 + sgn];
+                if (packable)
+                {
+                    out = table.findPacked(
+                        table.packedKey(v) + step[static_cast<size_t>(j) * 2 + sgn], false);
+                    continue;
+                }
+                const int* k = table.key(v);
+                for (int i = 0; i < d; i++)
+                    nb[static_cast<size_t>(i)] = k[i] + (sgn == 0 ? -1 : 1) * (i == j ? -d : 1);
+                out = table.find(nb.data(), false);
             }
     }
 }
@@ -277,25 +366,26 @@ __attribute__((target_clones("avx2", "default"))) void splatPoints(
     }
 }
 
-/// One blur pass along an axis: dst[v] = src[v] + (src[n1] + src[n2]) / 2.
+/// One blur pass along an axis: dst[v] = src[v] + (src[n1] + src[n2]) / 2, one pass over
+/// the channels; a missing neighbour reads `zeros` (c zeros).
 __attribute__((target_clones("avx2", "default"))) void blurVertices(const float* src, float* dst,
-                                                                    int c, int begin, int end,
-                                                                    int d1, int axis,
-                                                                    const int* neighbours)
+                                                                    const float* zeros, int c,
+                                                                    int begin, int end, int d1,
+                                                                    int axis, const int* neighbours)
 {
     for (int v = begin; v < end; v++)
     {
+        const int* nb = neighbours + (static_cast<size_t>(v) * d1 + axis) * 2;
         const float* __restrict self = src + static_cast<size_t>(v) * c;
+        const float* __restrict a = nb[0] < 0 ? zeros : src + static_cast<size_t>(nb[0]) * c;
+        const float* __restrict b = nb[1] < 0 ? zeros : src + static_cast<size_t>(nb[1]) * c;
         float* __restrict out = dst + static_cast<size_t>(v) * c;
-        for (int k = 0; k < c; k++)
-            out[k] = self[k];
-        for (int sgn = 0; sgn < 2; sgn++)
-        {
-            const int nb = neighbours[(static_cast<size_t>(v) * d1 + axis) * 2 + sgn];
-            if (nb < 0)
-                continue;
-            axpy(out, src + static_cast<size_t>(nb) * c, 0.5f, c);
-        }
+        int k = 0;
+        for (; k + 8 <= c; k += 8)
+            for (int j = 0; j < 8; j++)
+                out[k + j] = self[k + j] + 0.5f * (a[k + j] + b[k + j]);
+        for (; k < c; k++)
+            out[k] = self[k] + 0.5f * (a[k] + b[k]);
     }
 }
 
@@ -350,14 +440,15 @@ void PermutohedralLattice::splatAndBlur(const cv::Mat& in, cv::Mat& values,
         values += partial[st];
 
     cv::Mat blurred(m, c, CV_32FC1);
+    const std::vector<float> zeros(static_cast<size_t>(c), 0.0f);
     for (int j = 0; j < d1; j++)
     {
         cv::parallel_for_(
             cv::Range(0, m),
             [&](const cv::Range& range)
             {
-                blurVertices(values.ptr<float>(), blurred.ptr<float>(), c, range.start, range.end,
-                             d1, j, neighbours_.data());
+                blurVertices(values.ptr<float>(), blurred.ptr<float>(), zeros.data(), c,
+                             range.start, range.end, d1, j, neighbours_.data());
             },
             stripes);
         std::swap(values, blurred);

@@ -12,8 +12,8 @@
 namespace smap::segmentation
 {
 /// [crf] section. Defaults: the dense-CRF literature's (METHOD.md section 3), except
-/// appearance_xy: 20 px rather than 80 px (which was meant for ~500 px wide images), tuned on
-/// 7-Scenes with composited people at 320x240 (docs/segmentation.md).
+/// appearance_xy = 20 px (literature 80, for ~500 px wide images), tuned on 7-Scenes with
+/// composited people at 320x240 (docs/segmentation.md).
 struct DenseCrfParameters : public mrpt::config::CLoadableOptions
 {
     bool enabled = true;
