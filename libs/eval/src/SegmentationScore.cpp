@@ -46,15 +46,15 @@ double ClassSegmentationScore::bandIou() const
     return ratio(bandIntersection, bandUnion);
 }
 
-SegmentationScore::SegmentationScore(std::vector<std::pair<int, std::string>> classes,
+SegmentationScore::SegmentationScore(const std::vector<std::pair<int, std::string>>& classes,
                                      SegmentationScoreOptions options)
     : options_(options)
 {
-    for (auto& [id, name] : classes)
+    for (const auto& [id, name] : classes)
     {
         ClassSegmentationScore c;
         c.id = id;
-        c.name = std::move(name);
+        c.name = name;
         classes_.push_back(std::move(c));
     }
 }

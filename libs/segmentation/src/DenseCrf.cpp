@@ -136,12 +136,14 @@ cv::Mat DenseCrf::smoothnessFeatures(int width, int height) const
     cv::Mat f(width * height, 2, CV_32FC1);
     const float s = static_cast<float>(1.0 / params_.smoothness_xy);
     for (int v = 0; v < height; v++)
+    {
         for (int u = 0; u < width; u++)
         {
             float* p = f.ptr<float>(v * width + u);
             p[0] = static_cast<float>(u) * s;
             p[1] = static_cast<float>(v) * s;
         }
+    }
     return f;
 }
 
@@ -176,8 +178,6 @@ struct DenseCrf::Kernel
 };
 
 DenseCrf::~DenseCrf() = default;
-DenseCrf::DenseCrf(DenseCrf&&) noexcept = default;
-DenseCrf& DenseCrf::operator=(DenseCrf&&) noexcept = default;
 
 namespace
 {

@@ -133,6 +133,7 @@ SegmentationResult LabelImageSegmenter::segmentNative(const core::RgbdFrame& fra
     const float uniform = 1.0f / static_cast<float>(n);
     cv::Mat probs(n, labels.rows * labels.cols, CV_32FC1);
     for (int v = 0; v < labels.rows; v++)
+    {
         for (int u = 0; u < labels.cols; u++)
         {
             const int i = v * labels.cols + u;
@@ -154,6 +155,7 @@ SegmentationResult LabelImageSegmenter::segmentNative(const core::RgbdFrame& fra
             for (int k = 0; k < n; k++)
                 probs.at<float>(k, i) = k == l ? p : rest;
         }
+    }
     auto r = SegmentationResult::fromProbabilities(probs, labels.cols, labels.rows);
     // Ties (a void pixel) would take label 0 by arg max: keep the image's labels instead.
     r.labels = labels.clone();

@@ -82,7 +82,10 @@ void OnnxSegmenterParameters::loadFromConfigFile(const mrpt::config::CConfigFile
     classes = splitList(cfg.read_string(s, "classes", joinList(classes, ",")), ',');
     std::vector<std::string> mapText;
     for (const auto& [from, to] : class_map)
-        mapText.push_back(from + ":" + to);
+    {
+        mapText.push_back(from);
+        mapText.back() += ":" + to;
+    }
     class_map.clear();
     for (const auto& pair : splitList(cfg.read_string(s, "class_map", joinList(mapText, ",")), ','))
     {
@@ -118,7 +121,10 @@ void OnnxSegmenterParameters::saveToConfigFile(mrpt::config::CConfigFileBase& cf
     cfg.write(s, "classes", joinList(classes, ","));
     std::vector<std::string> mapText;
     for (const auto& [from, to] : class_map)
-        mapText.push_back(from + ":" + to);
+    {
+        mapText.push_back(from);
+        mapText.back() += ":" + to;
+    }
     cfg.write(s, "class_map", joinList(mapText, ","));
     cfg.write(s, "threads", threads);
 }
@@ -151,9 +157,10 @@ OnnxSegmenter::OnnxSegmenter(const OnnxSegmenterParameters& params, core::LabelS
         }
         const auto id = this->labels().find(target);
         if (!id)
-            throw core::InputError("ONNX model '" + path + "': class '" + name +
-                                   "' is not in the label set; map it with [onnx] class_map "
-                                   "(model_class:label, or model_class:void)");
+            throw core::InputError(mrpt::format(
+                "ONNX model '%s': class '%s' is not in the label set; map it with [onnx] "
+                "class_map (model_class:label, or model_class:void)",
+                path.c_str(), name.c_str()));
         classToLabel_.push_back(*id);
     }
     identityMapping_ = classToLabel_.size() == this->labels().size();

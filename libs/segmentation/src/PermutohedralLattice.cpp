@@ -185,12 +185,14 @@ void enclosingSimplex(const float* f, int d, const double* scale, int* rem0, int
         diff[j] = elevated[j] - rem0[j];
     }
     for (int j = 0; j < d1; j++)
+    {
         for (int k = j + 1; k < d1; k++)
         {
             const int jSmaller = diff[j] < diff[k] ? 1 : 0;  // branch-free: data-dependent
             rank[j] += jSmaller;
             rank[k] += 1 - jSmaller;
         }
+    }
     // That point must lie on the hyperplane too: move the coordinates rounded furthest.
     for (int j = 0; j < d1; j++)
     {
@@ -305,16 +307,21 @@ void PermutohedralLattice::build(const cv::Mat& features)
     std::vector<int> nb(static_cast<size_t>(d));
     std::vector<uint64_t> step(static_cast<size_t>(d1) * 2);
     if (packable)
+    {
         for (int j = 0; j < d1; j++)
+        {
             for (int sgn = 0; sgn < 2; sgn++)
             {
                 for (int i = 0; i < d; i++)
                     nb[static_cast<size_t>(i)] = (sgn == 0 ? -1 : 1) * (i == j ? -d : 1);
                 step[static_cast<size_t>(j) * 2 + sgn] = table.packedOffset(nb.data());
             }
+        }
+    }
     for (int v = 0; v < m; v++)
     {
         for (int j = 0; j < d1; j++)
+        {
             for (int sgn = 0; sgn < 2; sgn++)
             {
                 int& out = neighbours_[(static_cast<size_t>(v) * d1 + j) * 2 + sgn];
@@ -329,6 +336,7 @@ void PermutohedralLattice::build(const cv::Mat& features)
                     nb[static_cast<size_t>(i)] = k[i] + (sgn == 0 ? -1 : 1) * (i == j ? -d : 1);
                 out = table.find(nb.data(), false);
             }
+        }
     }
 }
 

@@ -49,7 +49,7 @@ class SegmentationScore
 {
 public:
     /// Classes to score as (id, name) pairs.
-    SegmentationScore(std::vector<std::pair<int, std::string>> classes,
+    SegmentationScore(const std::vector<std::pair<int, std::string>>& classes,
                       SegmentationScoreOptions options = {});
 
     /// Scores one frame: CV_8UC1 label images of the same size. Throws std::invalid_argument

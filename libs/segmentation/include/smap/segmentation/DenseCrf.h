@@ -44,8 +44,8 @@ public:
     /// Throws core::InputError when the compatibility file is unreadable or not labels x labels.
     DenseCrf(const DenseCrfParameters& params, int labelCount);
     ~DenseCrf();
-    DenseCrf(DenseCrf&&) noexcept;
-    DenseCrf& operator=(DenseCrf&&) noexcept;
+    DenseCrf(const DenseCrf&) = delete;
+    DenseCrf& operator=(const DenseCrf&) = delete;
 
     /// Mean-field inference. `bgr`: CV_8UC3 h x w; `probabilities`: CV_32FC1, labels x (w*h)
     /// (SegmentationResult's layout). Returns the refined marginals in the same layout.
