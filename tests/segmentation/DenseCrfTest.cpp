@@ -284,3 +284,38 @@ TEST(SegmentationResult, ResizeKeepsDistributionsAndLabels)
     cv::reduce(big.probabilities, sums, 0, cv::REDUCE_SUM);
     EXPECT_LT(cv::norm(sums, cv::Mat::ones(1, 32, CV_32FC1), cv::NORM_INF), 1e-5);
 }
+
+TEST(PermutohedralLattice, SameFilteringWhateverTheThreadCount)
+{
+    // Points are hashed in stripes, one per thread, and the stripes' tables merged: the
+    // lattice (vertex count) and the filtering must not depend on how many there are.
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<float> pos(0.0f, 8.0f);
+    cv::Mat f(3000, 5, CV_32FC1), x(3000, 3, CV_32FC1);
+    for (int i = 0; i < f.rows; i++)
+    {
+        for (int c = 0; c < 5; c++)
+            f.at<float>(i, c) = pos(rng);
+        for (int c = 0; c < 3; c++)
+            x.at<float>(i, c) = pos(rng);
+    }
+    const int before = cv::getNumThreads();
+    cv::Mat reference;
+    int vertices = 0;
+    for (const int threads : {1, 3})
+    {
+        cv::setNumThreads(threads);
+        const PermutohedralLattice lattice(f);
+        cv::Mat out;
+        lattice.filter(x, out);
+        if (reference.empty())
+        {
+            reference = out;
+            vertices = lattice.vertexCount();
+            continue;
+        }
+        EXPECT_EQ(lattice.vertexCount(), vertices);
+        EXPECT_LT(cv::norm(out, reference, cv::NORM_INF), 1e-4 * cv::norm(reference, cv::NORM_INF));
+    }
+    cv::setNumThreads(before);
+}

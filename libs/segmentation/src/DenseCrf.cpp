@@ -175,6 +175,7 @@ struct DenseCrf::Kernel
     PermutohedralLattice lattice;
     cv::Mat norm;
     cv::Size size;
+    std::vector<cv::Mat> scratch;  ///< splatAndBlur's buffers, kept between calls
 };
 
 DenseCrf::~DenseCrf() = default;
@@ -306,10 +307,10 @@ cv::Mat DenseCrf::refine(const cv::Mat& bgr, const cv::Mat& probabilities)
         appearance_ = std::make_unique<Kernel>(appearanceFeatures(bgr), bgr.size());
     else
         appearance_->rebuild(appearanceFeatures(bgr), bgr.size());
-    const Kernel& appearance = *appearance_;
+    Kernel& appearance = *appearance_;
     if (!smoothness_ || smoothness_->size != bgr.size())
         smoothness_ = std::make_unique<Kernel>(smoothnessFeatures(bgr.cols, bgr.rows), bgr.size());
-    const Kernel& smoothness = *smoothness_;
+    Kernel& smoothness = *smoothness_;
 
     const int stripes = std::max(1, std::min(cv::getNumThreads(), 8));
     const cv::Range all(0, unary.rows);
@@ -323,8 +324,10 @@ cv::Mat DenseCrf::refine(const cv::Mat& bgr, const cv::Mat& probabilities)
     const cv::Mat* mu = potts_ ? nullptr : &compatibility_;
     for (int it = 0; it < params_.iterations; it++)
     {
-        appearance.lattice.splatAndBlur(q, valuesA, appearance.norm.ptr<float>());
-        smoothness.lattice.splatAndBlur(q, valuesS, smoothness.norm.ptr<float>());
+        appearance.lattice.splatAndBlur(q, valuesA, appearance.norm.ptr<float>(),
+                                        &appearance.scratch);
+        smoothness.lattice.splatAndBlur(q, valuesS, smoothness.norm.ptr<float>(),
+                                        &smoothness.scratch);
         cv::parallel_for_(
             all,
             [&](const cv::Range& r)

@@ -40,55 +40,31 @@ public:
             keys_.reserve(expected * static_cast<size_t>(d));
     }
 
-    /// The id of `key`, inserting it when `insert`; -1 when absent and not inserting.
-    int find(const int* key, bool insert)
+    /// The id of `key`, inserting it when absent.
+    int insert(const int* key)
     {
         if (packed_)
-            return findPacked(pack(key), insert);
-        size_t h = hash(key) & mask_;
-        while (true)
-        {
-            const int id = slots_[h];
-            if (id < 0)
-            {
-                if (!insert)
-                    return -1;
-                const int fresh = size();
-                keys_.insert(keys_.end(), key, key + d_);
-                slots_[h] = fresh;
-                if (2 * static_cast<size_t>(fresh + 1) > slots_.size())
-                    grow();
-                return fresh;
-            }
-            if (sameInts(key, keys_.data() + static_cast<size_t>(id) * d_, d_))
-                return id;
-            h = (h + 1) & mask_;
-        }
+            return insertPacked(pack(key));
+        const size_t h = probe(key);
+        if (slots_[h] >= 0)
+            return slots_[h];
+        keys_.insert(keys_.end(), key, key + d_);
+        return occupy(h);
     }
-
-    /// find() for a packed key (packed mode only).
-    int findPacked(uint64_t p, bool insert)
+    int insertPacked(uint64_t p)
     {
-        size_t h = hashPacked(p) & mask_;
-        while (true)
-        {
-            const int id = slots_[h];
-            if (id < 0)
-            {
-                if (!insert)
-                    return -1;
-                const int fresh = size();
-                packedKeys_.push_back(p);
-                slots_[h] = fresh;
-                if (2 * static_cast<size_t>(fresh + 1) > slots_.size())
-                    grow();
-                return fresh;
-            }
-            if (packedKeys_[static_cast<size_t>(id)] == p)
-                return id;
-            h = (h + 1) & mask_;
-        }
+        const size_t h = probePacked(p);
+        if (slots_[h] >= 0)
+            return slots_[h];
+        packedKeys_.push_back(p);
+        return occupy(h);
     }
+    /// The id of `key`, or -1 (read-only: safe from several threads).
+    int lookup(const int* key) const
+    {
+        return packed_ ? lookupPacked(pack(key)) : slots_[probe(key)];
+    }
+    int lookupPacked(uint64_t p) const { return slots_[probePacked(p)]; }
 
     bool packed() const { return packed_; }
     uint64_t packedKey(int id) const { return packedKeys_[static_cast<size_t>(id)]; }
@@ -117,6 +93,31 @@ public:
     const int* key(int id) const { return keys_.data() + static_cast<size_t>(id) * d_; }
 
 private:
+    /// The slot holding `key`, or the empty slot where it would go.
+    size_t probe(const int* key) const
+    {
+        size_t h = hash(key) & mask_;
+        while (slots_[h] >= 0 &&
+               !sameInts(key, keys_.data() + static_cast<size_t>(slots_[h]) * d_, d_))
+            h = (h + 1) & mask_;
+        return h;
+    }
+    size_t probePacked(uint64_t p) const
+    {
+        size_t h = hashPacked(p) & mask_;
+        while (slots_[h] >= 0 && packedKeys_[static_cast<size_t>(slots_[h])] != p)
+            h = (h + 1) & mask_;
+        return h;
+    }
+    /// Gives the newest key (already appended) the id size() - 1 at empty slot h.
+    int occupy(size_t h)
+    {
+        const int fresh = size() - 1;
+        slots_[h] = fresh;
+        if (2 * static_cast<size_t>(fresh + 1) > slots_.size())
+            grow();
+        return fresh;
+    }
     static size_t hashPacked(uint64_t p)
     {
         const uint64_t h = p * 0x9E3779B97F4A7C15ull;
@@ -248,8 +249,7 @@ void PermutohedralLattice::build(const cv::Mat& features)
     for (int i = 1; i <= d; i++)
         scale[static_cast<size_t>(i - 1)] = invStd / std::sqrt(static_cast<double>(i) * (i + 1));
 
-    // Simplices of all points in parallel, then the vertices hashed in point order (so vertex
-    // ids, and every result, do not depend on the thread count).
+    // Simplices of all points in parallel, then their vertices hashed.
     // rem0_/rank_ and the other buffers keep their capacity from build to build.
     rem0_.resize(static_cast<size_t>(n_) * d1);
     rank_.resize(static_cast<size_t>(n_) * d1);
@@ -275,29 +275,60 @@ void PermutohedralLattice::build(const cv::Mat& features)
     for (const int r : rem0)
         largest = std::max(largest, std::abs(r));
     const bool packable = d * KeyTable::kPackBits <= 64 && largest + 3 * d1 < KeyTable::kPackLimit;
-    KeyTable table(d, static_cast<size_t>(n_) / 8, packable);
+    // Stripes of points are hashed in parallel, each into its own table; the stripes' tables
+    // are then merged into the first in stripe order (so ids depend on the stripe count only).
+    const int stripes = std::max(1, std::min(cv::getNumThreads(), 8));
+    std::vector<KeyTable> tables;
+    for (int st = 0; st < stripes; st++)
+        tables.emplace_back(d, static_cast<size_t>(n_) / (8 * stripes), packable);
     vertexOfPoint_.resize(static_cast<size_t>(n_) * d1);
-    std::vector<int> key(static_cast<size_t>(d));
-    for (int p = 0; p < n_; p++)
+    cv::parallel_for_(
+        cv::Range(0, stripes),
+        [&](const cv::Range& range)
+        {
+            std::vector<int> key(static_cast<size_t>(d));
+            for (int st = range.start; st < range.end; st++)
+            {
+                KeyTable& table = tables[static_cast<size_t>(st)];
+                const int begin = static_cast<int>(static_cast<int64_t>(n_) * st / stripes);
+                const int end = static_cast<int>(static_cast<int64_t>(n_) * (st + 1) / stripes);
+                for (int p = begin; p < end; p++)
+                {
+                    const size_t at = static_cast<size_t>(p) * d1;
+                    const int* r0 = rem0.data() + at;
+                    const int* rk = rank.data() + at;
+                    int* v = vertexOfPoint_.data() + at;
+                    // Neighbouring pixels often share a simplex: reuse the previous point's.
+                    if (p > begin && sameInts(r0, r0 - d1, d1) && sameInts(rk, rk - d1, d1))
+                    {
+                        std::copy(v - d1, v, v);
+                        continue;
+                    }
+                    // Vertex r: the remainder-0 corner plus the canonical simplex's vertex r.
+                    for (int r = 0; r < d1; r++)
+                    {
+                        for (int j = 0; j < d; j++)
+                            key[static_cast<size_t>(j)] = r0[j] + (rk[j] > d - r ? r - d1 : r);
+                        v[r] = table.insert(key.data());
+                    }
+                }
+            }
+        },
+        stripes);
+    KeyTable& table = tables[0];
+    for (int st = 1; st < stripes; st++)
     {
-        const size_t at = static_cast<size_t>(p) * d1;
-        const int* r0 = rem0.data() + at;
-        const int* rk = rank.data() + at;
-        int* v = vertexOfPoint_.data() + at;
-        // Neighbouring pixels often share a simplex: reuse the previous point's vertices.
-        if (p > 0 && sameInts(r0, r0 - d1, d1) && sameInts(rk, rk - d1, d1))
+        const KeyTable& local = tables[static_cast<size_t>(st)];
+        std::vector<int> global(static_cast<size_t>(local.size()));
+        for (int id = 0; id < local.size(); id++)
         {
-            std::copy(v - d1, v, v);
-            continue;
+            global[static_cast<size_t>(id)] =
+                packable ? table.insertPacked(local.packedKey(id)) : table.insert(local.key(id));
         }
-        // Vertex r: the remainder-0 corner plus the canonical simplex's vertex r.
-        for (int r = 0; r < d1; r++)
-        {
-            for (int j = 0; j < d; j++)
-                key[static_cast<size_t>(j)] = r0[j] + (rk[j] > d - r ? r - d1 : r);
-            v[r] = packable ? table.findPacked(table.pack(key.data()), true)
-                            : table.find(key.data(), true);
-        }
+        const size_t begin = static_cast<size_t>(static_cast<int64_t>(n_) * st / stripes) * d1;
+        const size_t end = static_cast<size_t>(static_cast<int64_t>(n_) * (st + 1) / stripes) * d1;
+        for (size_t slot = begin; slot < end; slot++)
+            vertexOfPoint_[slot] = global[static_cast<size_t>(vertexOfPoint_[slot])];
     }
     const int m = table.size();
     vertexCount_ = m;
@@ -318,26 +349,35 @@ void PermutohedralLattice::build(const cv::Mat& features)
             }
         }
     }
-    for (int v = 0; v < m; v++)
-    {
-        for (int j = 0; j < d1; j++)
+    const KeyTable& lookupTable = table;
+    cv::parallel_for_(
+        cv::Range(0, m),
+        [&](const cv::Range& range)
         {
-            for (int sgn = 0; sgn < 2; sgn++)
+            std::vector<int> nbKey(static_cast<size_t>(d));
+            for (int v = range.start; v < range.end; v++)
             {
-                int& out = neighbours_[(static_cast<size_t>(v) * d1 + j) * 2 + sgn];
-                if (packable)
+                for (int j = 0; j < d1; j++)
                 {
-                    out = table.findPacked(
-                        table.packedKey(v) + step[static_cast<size_t>(j) * 2 + sgn], false);
-                    continue;
+                    for (int sgn = 0; sgn < 2; sgn++)
+                    {
+                        int& out = neighbours_[(static_cast<size_t>(v) * d1 + j) * 2 + sgn];
+                        if (packable)
+                        {
+                            out = lookupTable.lookupPacked(lookupTable.packedKey(v) +
+                                                           step[static_cast<size_t>(j) * 2 + sgn]);
+                            continue;
+                        }
+                        const int* k = lookupTable.key(v);
+                        for (int i = 0; i < d; i++)
+                            nbKey[static_cast<size_t>(i)] =
+                                k[i] + (sgn == 0 ? -1 : 1) * (i == j ? -d : 1);
+                        out = lookupTable.lookup(nbKey.data());
+                    }
                 }
-                const int* k = table.key(v);
-                for (int i = 0; i < d; i++)
-                    nb[static_cast<size_t>(i)] = k[i] + (sgn == 0 ? -1 : 1) * (i == j ? -d : 1);
-                out = table.find(nb.data(), false);
             }
-        }
-    }
+        },
+        stripes);
 }
 
 namespace
@@ -418,24 +458,27 @@ __attribute__((target_clones("avx2", "default"))) void slicePoints(
 }
 }  // namespace
 
-void PermutohedralLattice::splatAndBlur(const cv::Mat& in, cv::Mat& values,
-                                        const float* inScale) const
+void PermutohedralLattice::splatAndBlur(const cv::Mat& in, cv::Mat& values, const float* inScale,
+                                        std::vector<cv::Mat>* scratch) const
 {
     CV_Assert(in.type() == CV_32FC1 && in.rows == n_ && in.isContinuous());
     const int c = in.cols, d1 = d_ + 1, m = vertexCount();
 
     // Splat: each stripe of points scatters into its own copy of the (small, cache-resident)
-    // vertex array; the copies are summed.
+    // vertex array; the copies are summed. Buffers: the caller's scratch (reused) or fresh.
     const int stripes = std::max(1, std::min(cv::getNumThreads(), 8));
-    std::vector<cv::Mat> partial(static_cast<size_t>(stripes));
+    std::vector<cv::Mat> local;
+    std::vector<cv::Mat>& buffers = scratch ? *scratch : local;
+    buffers.resize(static_cast<size_t>(stripes) + 1);
     cv::parallel_for_(
         cv::Range(0, stripes),
         [&](const cv::Range& range)
         {
             for (int st = range.start; st < range.end; st++)
             {
-                cv::Mat& acc = partial[static_cast<size_t>(st)];
-                acc = cv::Mat::zeros(m, c, CV_32FC1);
+                cv::Mat& acc = buffers[static_cast<size_t>(st)];
+                acc.create(m, c, CV_32FC1);
+                acc.setTo(0.0f);
                 const int begin = static_cast<int>(static_cast<int64_t>(n_) * st / stripes);
                 const int end = static_cast<int>(static_cast<int64_t>(n_) * (st + 1) / stripes);
                 splatPoints(in.ptr<float>(), inScale, c, begin, end, d1, vertexOfPoint_.data(),
@@ -443,11 +486,14 @@ void PermutohedralLattice::splatAndBlur(const cv::Mat& in, cv::Mat& values,
             }
         },
         stripes);
-    values = partial[0];
-    for (size_t st = 1; st < partial.size(); st++)
-        values += partial[st];
+    cv::Mat sum = buffers[0];
+    for (int st = 1; st < stripes; st++)
+        sum += buffers[static_cast<size_t>(st)];
 
-    cv::Mat blurred(m, c, CV_32FC1);
+    cv::Mat blurred = buffers[static_cast<size_t>(stripes)];
+    blurred.create(m, c, CV_32FC1);
+    buffers[static_cast<size_t>(stripes)] = blurred;
+    values = sum;
     const std::vector<float> zeros(static_cast<size_t>(c), 0.0f);
     for (int j = 0; j < d1; j++)
     {

@@ -29,8 +29,10 @@ public:
                 const float* outScale = nullptr, float outWeight = 1.0f) const;
 
     /// The first half of filter: `in` splatted onto the lattice and blurred; vertexCount() x
-    /// channels values for slicePoint.
-    void splatAndBlur(const cv::Mat& in, cv::Mat& values, const float* inScale = nullptr) const;
+    /// channels values for slicePoint. `scratch` (optional) keeps the work buffers between
+    /// calls; `values` then shares one of them, valid until the next call with that scratch.
+    void splatAndBlur(const cv::Mat& in, cv::Mat& values, const float* inScale = nullptr,
+                      std::vector<cv::Mat>* scratch = nullptr) const;
 
     /// The second half for one point: dst[0..c) += scale * sum_r w_r values[vertex_r]. Inline
     /// so that callers fuse it with their own per-point work (and vectorise it with it); `dst`
