@@ -279,6 +279,7 @@ void PermutohedralLattice::build(const cv::Mat& features)
     // are then merged into the first in stripe order (so ids depend on the stripe count only).
     const int stripes = std::max(1, std::min(cv::getNumThreads(), 8));
     std::vector<KeyTable> tables;
+    tables.reserve(static_cast<size_t>(stripes));
     for (int st = 0; st < stripes; st++)
         tables.emplace_back(d, static_cast<size_t>(n_) / (8 * stripes), packable);
     vertexOfPoint_.resize(static_cast<size_t>(n_) * d1);
