@@ -2,7 +2,9 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <vector>
 
 #include "TestData.h"
 #include "smap/core/LabelSet.h"
@@ -113,4 +115,41 @@ TEST(LabelSet, ShippedVocTableEqualsTheBuiltInOne)
     const std::string e = test::inputErrorOf([&] { core::LabelSet::loadCsv(dir / "bad.csv"); });
     EXPECT_NE(e.find("bad.csv"), std::string::npos) << e;
     EXPECT_NE(e.find("person"), std::string::npos) << e;
+}
+
+TEST(LabelImageSegmenter, ReadsMultiPageProbabilityImages)
+{
+    test::TempDir dir;
+    // 21 pages of 16-bit p x 65535: person 0.7 on the left half, chair 0.6 on the right, the
+    // rest shared; one 8-bit file with too few pages.
+    std::vector<cv::Mat> pages;
+    for (int k = 0; k < 21; k++)
+    {
+        cv::Mat page(6, 8, CV_16UC1, cv::Scalar(0));
+        if (k == 15)
+            page(cv::Rect(0, 0, 4, 6)).setTo(0.7 * 65535);
+        else if (k == 9)
+            page(cv::Rect(4, 0, 4, 6)).setTo(0.6 * 65535);
+        else
+            page.setTo(0.02 * 65535);
+        pages.push_back(page);
+    }
+    ASSERT_TRUE(cv::imwritemulti(dir / "f0.tiff", pages));
+    ASSERT_TRUE(cv::imwritemulti(dir / "f1.tiff",
+                                 std::vector<cv::Mat>(3, cv::Mat(6, 8, CV_8UC1, cv::Scalar(9)))));
+    LabelImageParameters p;
+    p.folder = dir.str();
+    p.kind = "probabilities";
+    LabelImageSegmenter seg(p, core::LabelSet::pascalVoc());
+    const auto r = seg.segment(frame("f0", 0.0));
+    EXPECT_EQ(r.labels.at<uint8_t>(2, 1), 15);
+    EXPECT_EQ(r.labels.at<uint8_t>(2, 6), 9);
+    // Left: 0.7 + 19 x 0.02 + 0 (chair) = 1.08 before renormalising.
+    EXPECT_NEAR(r.probabilities.at<float>(15, 1), 0.7f / 1.08f, 1e-4);
+    cv::Mat sums;
+    cv::reduce(r.probabilities, sums, 0, cv::REDUCE_SUM);
+    EXPECT_LT(cv::norm(sums, cv::Mat::ones(1, 48, CV_32FC1), cv::NORM_INF), 1e-5);
+    const std::string e = test::inputErrorOf([&] { seg.segment(frame("f1", 0.0)); });
+    EXPECT_NE(e.find("f1.tiff"), std::string::npos) << e;
+    EXPECT_NE(e.find("one page per class (21), not 3"), std::string::npos) << e;
 }

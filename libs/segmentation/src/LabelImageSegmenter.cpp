@@ -5,7 +5,9 @@
 
 #include <cmath>
 #include <filesystem>
+#include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <vector>
 
 #include "smap/core/InputError.h"
 
@@ -22,6 +24,10 @@ void LabelImageParameters::loadFromConfigFile(const mrpt::config::CConfigFileBas
     max_dt = cfg.read_double(s, "max_dt", max_dt);
     confidence = cfg.read_double(s, "confidence", confidence);
     confidence_folder = cfg.read_string(s, "confidence_folder", confidence_folder);
+    kind = cfg.read_string(s, "kind", kind);
+    if (kind != "labels" && kind != "probabilities")
+        throw core::InputError("[label_images] kind = '" + kind +
+                               "' is not one of: labels, probabilities");
     if (match != "name" && match != "timestamp")
         throw core::InputError("[label_images] match = '" + match +
                                "' is not one of: name, timestamp");
@@ -41,6 +47,7 @@ void LabelImageParameters::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
     cfg.write(s, "max_dt", max_dt);
     cfg.write(s, "confidence", confidence);
     cfg.write(s, "confidence_folder", confidence_folder);
+    cfg.write(s, "kind", kind);
 }
 
 LabelImageSegmenter::LabelImageSegmenter(const LabelImageParameters& params, core::LabelSet labels)
@@ -53,12 +60,13 @@ LabelImageSegmenter::LabelImageSegmenter(const LabelImageParameters& params, cor
     if (!params_.confidence_folder.empty() && !fs::is_directory(params_.confidence_folder))
         throw core::InputError("confidence folder '" + params_.confidence_folder +
                                "' does not exist");
-    size_t pngs = 0;
+    extension_ = params_.kind == "labels" ? ".png" : ".tiff";
+    size_t files = 0;
     for (const auto& e : fs::directory_iterator(params_.folder))
     {
-        if (e.path().extension() != ".png")
+        if (e.path().extension() != extension_)
             continue;
-        pngs++;
+        files++;
         if (params_.match != "timestamp")
             continue;
         const std::string stem = e.path().stem().string();
@@ -70,15 +78,16 @@ LabelImageSegmenter::LabelImageSegmenter(const LabelImageParameters& params, cor
                                    "timestamp)");
         byTimestamp_[t] = e.path().string();
     }
-    if (pngs == 0)
-        throw core::InputError("label image folder '" + params_.folder + "' has no .png files");
+    if (files == 0)
+        throw core::InputError("label image folder '" + params_.folder + "' has no " + extension_ +
+                               " files ([label_images] kind = " + params_.kind + ")");
 }
 
 std::string LabelImageSegmenter::fileFor(const core::RgbdFrame& frame) const
 {
     if (params_.match == "name")
     {
-        const fs::path p = fs::path(params_.folder) / (frame.name + ".png");
+        const fs::path p = fs::path(params_.folder) / (frame.name + extension_);
         return fs::exists(p) ? p.string() : std::string();
     }
     const auto after = byTimestamp_.lower_bound(frame.timestamp);
@@ -106,6 +115,8 @@ SegmentationResult LabelImageSegmenter::segmentNative(const core::RgbdFrame& fra
         throw core::InputError(mrpt::format(
             "no label image for frame '%s' (t = %.6f) in '%s' ([label_images] match = %s)",
             frame.name.c_str(), frame.timestamp, params_.folder.c_str(), params_.match.c_str()));
+    if (params_.kind == "probabilities")
+        return readProbabilities(path, frame);
     const cv::Mat labels = cv::imread(path, cv::IMREAD_UNCHANGED);
     if (labels.empty() || labels.type() != CV_8UC1)
         throw core::InputError("label image '" + path +
@@ -162,8 +173,58 @@ SegmentationResult LabelImageSegmenter::segmentNative(const core::RgbdFrame& fra
     return r;
 }
 
+SegmentationResult LabelImageSegmenter::readProbabilities(const std::string& path,
+                                                          const core::RgbdFrame& frame) const
+{
+    std::vector<cv::Mat> pages;
+    const int n = static_cast<int>(labels().size());
+    if (!cv::imreadmulti(path, pages, cv::IMREAD_UNCHANGED) || static_cast<int>(pages.size()) != n)
+        throw core::InputError(mrpt::format(
+            "probability image '%s' must be a multi-page TIFF with one page per class (%d), "
+            "not %zu",
+            path.c_str(), n, pages.size()));
+    const cv::Size size = pages[0].size();
+    if (!frame.colour.empty() &&
+        std::abs(static_cast<double>(size.width) * frame.colour.rows -
+                 static_cast<double>(size.height) * frame.colour.cols) > size.height)
+        throw core::InputError(mrpt::format(
+            "probability image '%s' is %dx%d, not of the frame's "
+            "aspect (%dx%d)",
+            path.c_str(), size.width, size.height, frame.colour.cols, frame.colour.rows));
+    cv::Mat probs(n, size.area(), CV_32FC1);
+    for (int k = 0; k < n; k++)
+    {
+        const cv::Mat& page = pages[static_cast<size_t>(k)];
+        const int depth = page.depth();
+        if (page.size() != size || page.channels() != 1 ||
+            (depth != CV_8U && depth != CV_16U && depth != CV_32F))
+            throw core::InputError(mrpt::format(
+                "probability image '%s': page %d is not single-channel 8-bit, 16-bit or float "
+                "of %dx%d",
+                path.c_str(), k, size.width, size.height));
+        // 8- and 16-bit pages hold probability x the type's maximum.
+        const double scale = depth == CV_8U ? 1.0 / 255.0 : depth == CV_16U ? 1.0 / 65535.0 : 1.0;
+        cv::Mat row = probs.row(k).reshape(1, size.height);
+        page.convertTo(row, CV_32F, scale);
+    }
+    // Columns to distributions (all-zero columns: uniform).
+    cv::Mat sum;
+    cv::reduce(probs, sum, 0, cv::REDUCE_SUM);
+    for (int i = 0; i < probs.cols; i++)
+    {
+        const float t = sum.at<float>(i);
+        for (int k = 0; k < n; k++)
+        {
+            float& v = probs.at<float>(k, i);
+            v = t > 0.0f ? v / t : 1.0f / static_cast<float>(n);
+        }
+    }
+    return SegmentationResult::fromProbabilities(probs, size.width, size.height);
+}
+
 std::string LabelImageSegmenter::description() const
 {
-    return "label images from " + params_.folder + " (by " + params_.match + ")";
+    return (params_.kind == "labels" ? "label images from " : "probability images from ") +
+           params_.folder + " (by " + params_.match + ")";
 }
 }  // namespace smap::segmentation

@@ -1,5 +1,6 @@
 // Precomputed segmentations from disk: one 8-bit label image per frame (the project's class
-// ids, 255 = void), matched by the frame's name or by timestamp. This is how the paper fed its
+// ids, 255 = void), or one multi-page probability image per frame, matched by the frame's name
+// or by timestamp. This is how the paper fed its
 // segmentation, how any external network plugs in, and how synthetic ground truth comes in.
 #pragma once
 
@@ -15,8 +16,12 @@ namespace smap::segmentation
 /// [label_images] section.
 struct LabelImageParameters : public mrpt::config::CLoadableOptions
 {
-    /// Folder of label images (PNG, CV_8UC1).
+    /// Folder of label images (PNG, CV_8UC1) or probability images (TIFF).
     std::string folder;
+    /// "labels": <name>.png, 8-bit class ids. "probabilities": <name>.tiff, one page per class
+    /// of the label set in id order, 8-bit (p x 255), 16-bit (p x 65535) or float; columns are
+    /// renormalised.
+    std::string kind = "labels";
     /// "name": FOLDER/<frame name>.png (a TUM frame's name is its colour file's stem);
     /// "timestamp": files named <seconds>.png, the nearest within max_dt of the frame's time.
     std::string match = "name";
@@ -49,7 +54,11 @@ public:
     std::string fileFor(const core::RgbdFrame& frame) const;
 
 private:
+    SegmentationResult readProbabilities(const std::string& path,
+                                         const core::RgbdFrame& frame) const;
+
     LabelImageParameters params_;
+    std::string extension_;  ///< ".png" (labels) or ".tiff" (probabilities)
     std::map<double, std::string> byTimestamp_;
 };
 }  // namespace smap::segmentation
