@@ -1,0 +1,169 @@
+#include "smap/mapping/DynamicRegionFinder.h"
+
+#include <mrpt/config/CConfigFileBase.h>
+#include <mrpt/core/format.h>
+
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+#include <sstream>
+
+#include "smap/core/InputError.h"
+
+namespace smap::mapping
+{
+void DynamicRegionParameters::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
+                                                 const std::string&)
+{
+    const char* s = "association";
+    num_points = cfg.read_int(s, "num_points", num_points);
+    depth_tolerance = cfg.read_double(s, "depth_tolerance", depth_tolerance);
+    pixel_radius = cfg.read_double(s, "pixel_radius", pixel_radius);
+    non_object_classes = cfg.read_string(s, "non_object_classes", non_object_classes);
+    connectivity = cfg.read_int(s, "connectivity", connectivity);
+    if (num_points < 0)
+        throw core::InputError(
+            mrpt::format("[association] num_points = %d must be >= 0", num_points));
+    if (!(depth_tolerance > 0.0) || !(pixel_radius > 0.0) || pixel_radius > 200.0)
+        throw core::InputError(mrpt::format(
+            "[association] depth_tolerance = %g must be > 0 and pixel_radius = %g in (0, 200]",
+            depth_tolerance, pixel_radius));
+    if (connectivity != 4 && connectivity != 8)
+        throw core::InputError(
+            mrpt::format("[association] connectivity = %d must be 4 or 8", connectivity));
+}
+
+void DynamicRegionParameters::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
+                                               const std::string&) const
+{
+    const char* s = "association";
+    cfg.write(s, "num_points", num_points);
+    cfg.write(s, "depth_tolerance", depth_tolerance);
+    cfg.write(s, "pixel_radius", pixel_radius);
+    cfg.write(s, "non_object_classes", non_object_classes);
+    cfg.write(s, "connectivity", connectivity);
+}
+
+DynamicRegionFinder::DynamicRegionFinder(const DynamicRegionParameters& params,
+                                         const core::LabelSet& labels)
+    : params_(params)
+{
+    std::stringstream ss(params_.non_object_classes);
+    for (std::string name; std::getline(ss, name, ',');)
+    {
+        name.erase(0, name.find_first_not_of(" \t"));
+        name.erase(name.find_last_not_of(" \t") + 1);
+        if (!name.empty())
+            nonObject_.insert(labels.idOf(name));
+    }
+}
+
+DynamicRegions DynamicRegionFinder::find(const cv::Mat& labels, const cv::Mat& depth,
+                                         const std::vector<DynamicPoint>& points) const
+{
+    CV_Assert(labels.type() == CV_8UC1 && depth.type() == CV_32FC1 &&
+              labels.size() == depth.size());
+    DynamicRegions r;
+    r.dynamicMask = cv::Mat::zeros(labels.size(), CV_8UC1);
+    r.objectIds = cv::Mat(labels.size(), CV_32SC1, cv::Scalar(-1));
+
+    // Objects: connected regions of each class present (void and non-object classes aside).
+    bool present[256] = {};
+    for (int v = 0; v < labels.rows; v++)
+    {
+        const auto* l = labels.ptr<uint8_t>(v);
+        for (int u = 0; u < labels.cols; u++)
+            present[l[u]] = true;
+    }
+    cv::Mat components;
+    for (int label = 0; label < core::LabelSet::kVoid; label++)
+    {
+        if (!present[label] || nonObject_.count(label))
+            continue;
+        const int n =
+            cv::connectedComponents(labels == label, components, params_.connectivity, CV_32S);
+        const int first = static_cast<int>(r.objects.size());
+        for (int c = 1; c < n; c++)
+            r.objects.push_back({label, 0, 0, false});
+        for (int v = 0; v < labels.rows; v++)
+        {
+            const int* comp = components.ptr<int>(v);
+            int* ids = r.objectIds.ptr<int>(v);
+            for (int u = 0; u < labels.cols; u++)
+            {
+                if (comp[u] > 0)
+                {
+                    ids[u] = first + comp[u] - 1;
+                    r.objects[static_cast<size_t>(ids[u])].pixels++;
+                }
+            }
+        }
+    }
+
+    // Step 1: count the dynamic points on every object; more than Num -> the whole object.
+    auto inside = [&](const DynamicPoint& p, int& u, int& v)
+    {
+        u = static_cast<int>(std::lround(p.u));
+        v = static_cast<int>(std::lround(p.v));
+        return u >= 0 && v >= 0 && u < labels.cols && v < labels.rows;
+    };
+    for (const auto& p : points)
+    {
+        int u = 0, v = 0;
+        if (inside(p, u, v) && r.objectIds.at<int>(v, u) >= 0)
+            r.objects[static_cast<size_t>(r.objectIds.at<int>(v, u))].dynamicPoints++;
+    }
+    for (auto& o : r.objects)
+        o.dynamic = o.dynamicPoints > params_.num_points;
+    for (int v = 0; v < labels.rows; v++)
+    {
+        const int* ids = r.objectIds.ptr<int>(v);
+        auto* m = r.dynamicMask.ptr<uint8_t>(v);
+        for (int u = 0; u < labels.cols; u++)
+        {
+            if (ids[u] >= 0 && r.objects[static_cast<size_t>(ids[u])].dynamic)
+            {
+                m[u] = 255;
+                r.pixelsFromObjects++;
+            }
+        }
+    }
+
+    // Step 2: around the remaining points, pixels near in the image and in depth.
+    const double radius = params_.pixel_radius, radius2 = radius * radius;
+    for (const auto& p : points)
+    {
+        int pu = 0, pv = 0;
+        if (inside(p, pu, pv))
+        {
+            const int id = r.objectIds.at<int>(pv, pu);
+            if (id >= 0 && r.objects[static_cast<size_t>(id)].dynamic)
+                continue;  // its object is gone already
+        }
+        double z = p.depth;
+        if (!(z > 0.0) && inside(p, pu, pv))
+            z = depth.at<float>(pv, pu);
+        const int u0 = std::max(0, static_cast<int>(std::ceil(p.u - radius)));
+        const int u1 = std::min(labels.cols - 1, static_cast<int>(std::floor(p.u + radius)));
+        const int v0 = std::max(0, static_cast<int>(std::ceil(p.v - radius)));
+        const int v1 = std::min(labels.rows - 1, static_cast<int>(std::floor(p.v + radius)));
+        for (int v = v0; v <= v1; v++)
+        {
+            const float* d = depth.ptr<float>(v);
+            auto* m = r.dynamicMask.ptr<uint8_t>(v);
+            for (int u = u0; u <= u1; u++)
+            {
+                const double du = u - p.u, dv = v - p.v;
+                if (m[u] || du * du + dv * dv >= radius2)
+                    continue;
+                // Without the point's depth only the image distance can decide; a pixel
+                // without depth is never back-projected, so its decision is moot.
+                if (z > 0.0 && !(d[u] > 0.0f && std::abs(d[u] - z) < params_.depth_tolerance))
+                    continue;
+                m[u] = 255;
+                r.pixelsNearPoints++;
+            }
+        }
+    }
+    return r;
+}
+}  // namespace smap::mapping

@@ -1,0 +1,130 @@
+// Algorithm 1 on hand-made images with known answers, and on a rendered walking sequence
+// against its ground-truth dynamic mask.
+#include <gtest/gtest.h>
+
+#include <opencv2/core.hpp>
+
+#include "TestData.h"
+#include "smap/mapping/DynamicRegionFinder.h"
+#include "smap/sim/SequenceGenerator.h"
+
+using namespace smap;
+using mapping::DynamicPoint;
+using mapping::DynamicRegionFinder;
+using mapping::DynamicRegionParameters;
+
+namespace
+{
+/// 100 x 80: background 0 at 3 m, a person (15) rectangle at 2 m, a chair (9) at 2.5 m.
+struct Scene
+{
+    cv::Mat labels = cv::Mat(80, 100, CV_8UC1, cv::Scalar(0));
+    cv::Mat depth = cv::Mat(80, 100, CV_32FC1, cv::Scalar(3.0f));
+    Scene()
+    {
+        labels(cv::Rect(10, 10, 20, 40)).setTo(15);
+        depth(cv::Rect(10, 10, 20, 40)).setTo(2.0f);
+        labels(cv::Rect(60, 30, 20, 20)).setTo(9);
+        depth(cv::Rect(60, 30, 20, 20)).setTo(2.5f);
+    }
+};
+
+std::vector<DynamicPoint> pointsIn(const cv::Rect& r, int count, double depth)
+{
+    std::vector<DynamicPoint> pts;
+    for (int i = 0; i < count; i++)
+        pts.push_back(
+            {r.x + 1.0 + (i * 7) % (r.width - 2), r.y + 1.0 + (i * 3) % (r.height - 2), depth});
+    return pts;
+}
+}  // namespace
+
+TEST(DynamicRegionFinder, ObjectWithMoreThanNumPointsGoesWhole)
+{
+    const Scene s;
+    const DynamicRegionFinder finder(DynamicRegionParameters(), core::LabelSet::pascalVoc());
+    // 21 points (> Num = 20) on the person: all its 800 pixels, nothing else.
+    auto r = finder.find(s.labels, s.depth, pointsIn({10, 10, 20, 40}, 21, 2.0));
+    ASSERT_EQ(r.objects.size(), 2u);  // person and chair; background is no object
+    EXPECT_EQ(r.pixelsFromObjects, 800);
+    EXPECT_EQ(r.pixelsNearPoints, 0);
+    EXPECT_EQ(cv::countNonZero(r.dynamicMask), 800);
+    EXPECT_EQ(cv::countNonZero(r.dynamicMask(cv::Rect(10, 10, 20, 40))), 800);
+
+    // Exactly Num points: not the whole object, only discs of radius < 5 px at depth +- 0.1 m.
+    r = finder.find(s.labels, s.depth, {{20.0, 30.0, 2.0}});
+    EXPECT_EQ(r.pixelsFromObjects, 0);
+    // Pixels with (du^2 + dv^2) < 25 around an integer centre: 69.
+    EXPECT_EQ(r.pixelsNearPoints, 69);
+    EXPECT_EQ(r.dynamicMask.at<uint8_t>(30, 24), 255);
+    EXPECT_EQ(r.dynamicMask.at<uint8_t>(30, 25), 0);  // distance 5: not < sigma2
+    r = finder.find(s.labels, s.depth, pointsIn({10, 10, 20, 40}, 20, 2.0));
+    EXPECT_EQ(r.pixelsFromObjects, 0);
+    EXPECT_GT(r.pixelsNearPoints, 0);
+}
+
+TEST(DynamicRegionFinder, DepthDecidesNearObjectEdges)
+{
+    const Scene s;
+    const DynamicRegionFinder finder(DynamicRegionParameters(), core::LabelSet::pascalVoc());
+    // A point on the person's right edge (u = 29): the background (3 m) beside it stays, the
+    // person pixels (2 m) within 5 px go.
+    const auto r = finder.find(s.labels, s.depth, {{29.0, 30.0, 2.0}});
+    for (int u = 25; u <= 33; u++)
+    {
+        const bool onPerson = u < 30;
+        EXPECT_EQ(r.dynamicMask.at<uint8_t>(30, u) != 0, onPerson) << "u = " << u;
+    }
+    // A point on the background, 0.05 m from the chair's depth: within sigma1 it takes chair
+    // pixels too; at 0.2 m it does not.
+    auto near = finder.find(s.labels, s.depth, {{57.0, 40.0, 2.45}});
+    EXPECT_EQ(near.dynamicMask.at<uint8_t>(40, 60), 255);
+    EXPECT_EQ(near.dynamicMask.at<uint8_t>(40, 56), 0);  // background at 3 m
+    auto far = finder.find(s.labels, s.depth, {{57.0, 40.0, 2.7}});
+    EXPECT_EQ(cv::countNonZero(far.dynamicMask), 0);
+    // Unknown depth: taken from the depth image at the point.
+    auto fromImage = finder.find(s.labels, s.depth, {{20.0, 30.0, 0.0}});
+    EXPECT_EQ(fromImage.pixelsNearPoints, 69);
+}
+
+TEST(DynamicRegionFinder, NonObjectClassesAndParameters)
+{
+    Scene s;
+    // With background counted as an object, 21 points on it remove the whole background.
+    DynamicRegionParameters p;
+    p.non_object_classes = "";
+    const DynamicRegionFinder all(p, core::LabelSet::pascalVoc());
+    const auto r = all.find(s.labels, s.depth, pointsIn({35, 5, 20, 70}, 21, 3.0));
+    EXPECT_EQ(r.pixelsFromObjects, 100 * 80 - 800 - 400);
+    p.non_object_classes = "nosuchclass";
+    EXPECT_NE(test::inputErrorOf([&] { DynamicRegionFinder f(p, core::LabelSet::pascalVoc()); })
+                  .find("nosuchclass"),
+              std::string::npos);
+}
+
+TEST(DynamicRegionFinder, RemovesTheWalkersOfARenderedFrame)
+{
+    sim::GeneratorOptions o;
+    o.preset = "walking_xyz";
+    o.noiseFreeDepth = true;
+    sim::SequenceGenerator gen(o);
+    const auto f = gen.frame(60);
+    const cv::Mat& truth = f.rendered.dynamic;
+    ASSERT_GT(cv::countNonZero(truth), 5000) << "no walker in view";
+    // A perfect dynamic filter: keypoints on a 12 px grid, dynamic where the truth says so.
+    std::vector<DynamicPoint> points;
+    for (int v = 6; v < truth.rows; v += 12)
+        for (int u = 6; u < truth.cols; u += 12)
+            if (truth.at<uint8_t>(v, u) && f.depthNoiseFree.at<float>(v, u) > 0.0f)
+                points.push_back({double(u), double(v), f.depthNoiseFree.at<float>(v, u)});
+    const DynamicRegionFinder finder(DynamicRegionParameters(), core::LabelSet::pascalVoc());
+    const auto r = finder.find(f.rendered.labels, f.depthNoiseFree, points);
+    const cv::Mat valid = f.depthNoiseFree > 0.0f;
+    const double truthPixels = cv::countNonZero(truth & valid);
+    const double removedTruth = cv::countNonZero(truth & valid & r.dynamicMask);
+    const double staticPixels = cv::countNonZero(~truth & valid);
+    const double removedStatic = cv::countNonZero(~truth & valid & r.dynamicMask);
+    EXPECT_GT(removedTruth / truthPixels, 0.99);
+    EXPECT_LT(removedStatic / staticPixels, 0.01);
+    EXPECT_GT(r.pixelsFromObjects, 0);  // walkers carry more than 20 points: removed whole
+}
