@@ -12,6 +12,19 @@ cv::Mat SegmentationResult::plane(int k) const
     return probabilities.row(k).reshape(1, height());
 }
 
+cv::Mat SegmentationResult::labelConfidence() const
+{
+    cv::Mat out(height(), width(), CV_32FC1);
+    for (int v = 0; v < height(); v++)
+    {
+        const auto* l = labels.ptr<uint8_t>(v);
+        auto* o = out.ptr<float>(v);
+        for (int u = 0; u < width(); u++)
+            o[u] = l[u] < labelCount() ? probabilities.at<float>(l[u], v * width() + u) : 0.0f;
+    }
+    return out;
+}
+
 SegmentationResult SegmentationResult::fromProbabilities(cv::Mat probabilities, int width,
                                                          int height)
 {

@@ -20,6 +20,9 @@ struct SegmentationResult
     /// Class k's probabilities as a height x width image (a view, no copy).
     cv::Mat plane(int k) const;
 
+    /// The probability of each pixel's label, CV_32FC1 height x width (0 on void pixels).
+    cv::Mat labelConfidence() const;
+
     /// A result from probabilities (labels x (width*height)); computes the labels.
     static SegmentationResult fromProbabilities(cv::Mat probabilities, int width, int height);
     /// Bilinear resampling of the probabilities to another size (renormalised), new labels.

@@ -1,4 +1,4 @@
-#include "smap/mapping/BackProjector.h"
+#include "smap/maps/BackProjector.h"
 
 #include <mrpt/config/CConfigFileBase.h>
 #include <mrpt/core/format.h>
@@ -8,7 +8,7 @@
 
 #include "smap/core/InputError.h"
 
-namespace smap::mapping
+namespace smap::maps
 {
 void BackProjectionParameters::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
                                                   const std::string&)
@@ -65,16 +65,19 @@ const cv::Mat& BackProjector::rays(const core::PinholeCamera& camera)
     return rays_;
 }
 
-std::vector<SemanticPoint> BackProjector::project(
-    const core::RgbdFrame& frame, const segmentation::SegmentationResult& segmentation,
-    const cv::Mat& dynamicMask, const mrpt::poses::CPose3D& T_world_cam)
+std::vector<SemanticPoint> BackProjector::project(const Images& images,
+                                                  const core::PinholeCamera& camera,
+                                                  const mrpt::poses::CPose3D& T_world_cam)
 {
-    const cv::Size size = frame.depth.size();
-    CV_Assert(
-        frame.depth.type() == CV_32FC1 && frame.colour.type() == CV_8UC3 &&
-        frame.colour.size() == size && segmentation.labels.size() == size &&
-        (dynamicMask.empty() || (dynamicMask.type() == CV_8UC1 && dynamicMask.size() == size)));
-    const cv::Mat& ray = rays(frame.camera);
+    const cv::Size size = images.depth.size();
+    CV_Assert(images.depth.type() == CV_32FC1 && images.colour.type() == CV_8UC3 &&
+              images.colour.size() == size && images.labels.type() == CV_8UC1 &&
+              images.labels.size() == size &&
+              (images.confidence.empty() ||
+               (images.confidence.type() == CV_32FC1 && images.confidence.size() == size)) &&
+              (images.dynamicMask.empty() ||
+               (images.dynamicMask.type() == CV_8UC1 && images.dynamicMask.size() == size)));
+    const cv::Mat& ray = rays(camera);
     CV_Assert(ray.size() == size);
     const Eigen::Matrix3d R = T_world_cam.getRotationMatrix().asEigen();
     const Eigen::Vector3d t(T_world_cam.x(), T_world_cam.y(), T_world_cam.z());
@@ -83,10 +86,11 @@ std::vector<SemanticPoint> BackProjector::project(
     out.reserve(static_cast<size_t>(size.area() / (stride * stride)));
     for (int v = 0; v < size.height; v += stride)
     {
-        const float* d = frame.depth.ptr<float>(v);
-        const auto* c = frame.colour.ptr<cv::Vec3b>(v);
-        const auto* l = segmentation.labels.ptr<uint8_t>(v);
-        const auto* m = dynamicMask.empty() ? nullptr : dynamicMask.ptr<uint8_t>(v);
+        const float* d = images.depth.ptr<float>(v);
+        const auto* c = images.colour.ptr<cv::Vec3b>(v);
+        const auto* l = images.labels.ptr<uint8_t>(v);
+        const float* conf = images.confidence.empty() ? nullptr : images.confidence.ptr<float>(v);
+        const auto* m = images.dynamicMask.empty() ? nullptr : images.dynamicMask.ptr<uint8_t>(v);
         const auto* rv = ray.ptr<cv::Vec2f>(v);
         for (int u = 0; u < size.width; u += stride)
         {
@@ -100,9 +104,7 @@ std::vector<SemanticPoint> BackProjector::project(
             p.g = c[u][1];
             p.r = c[u][2];
             p.label = l[u];
-            p.confidence = l[u] < segmentation.labelCount()
-                               ? segmentation.probabilities.at<float>(l[u], v * size.width + u)
-                               : 0.0f;
+            p.confidence = conf ? conf[u] : 1.0f;
             p.u = u;
             p.v = v;
             out.push_back(p);
@@ -110,4 +112,4 @@ std::vector<SemanticPoint> BackProjector::project(
     }
     return out;
 }
-}  // namespace smap::mapping
+}  // namespace smap::maps

@@ -7,11 +7,12 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core.hpp>
 
-#include "smap/mapping/BackProjector.h"
+#include "smap/core/RgbdFrame.h"
+#include "smap/maps/BackProjector.h"
 
 using namespace smap;
-using mapping::BackProjectionParameters;
-using mapping::BackProjector;
+using maps::BackProjectionParameters;
+using maps::BackProjector;
 
 namespace
 {
@@ -28,11 +29,16 @@ core::RgbdFrame frame(int w = 40, int h = 30, float z = 2.0f)
     return f;
 }
 
-segmentation::SegmentationResult labelled(int w, int h, int label, float p)
+BackProjector::Images images(const core::RgbdFrame& f, int label, float p,
+                             const cv::Mat& mask = cv::Mat())
 {
-    cv::Mat probs(21, w * h, CV_32FC1, cv::Scalar((1.0f - p) / 20.0f));
-    probs.row(label).setTo(p);
-    return segmentation::SegmentationResult::fromProbabilities(probs, w, h);
+    BackProjector::Images im;
+    im.colour = f.colour;
+    im.depth = f.depth;
+    im.labels = cv::Mat(f.depth.size(), CV_8UC1, cv::Scalar(label));
+    im.confidence = cv::Mat(f.depth.size(), CV_32FC1, cv::Scalar(p));
+    im.dynamicMask = mask;
+    return im;
 }
 }  // namespace
 
@@ -40,11 +46,10 @@ TEST(BackProjector, KnownPointsInTheWorld)
 {
     auto f = frame();
     f.depth.at<float>(0, 0) = 1.0f;
-    const auto seg = labelled(40, 30, 15, 0.8f);
     // Camera 1 m up, rotated 90 degrees about z (yaw).
     const mrpt::poses::CPose3D T_world_cam(0.0, 0.0, 1.0, M_PI / 2, 0.0, 0.0);
     BackProjector bp{BackProjectionParameters()};
-    const auto pts = bp.project(f, seg, cv::Mat(), T_world_cam);
+    const auto pts = bp.project(images(f, 15, 0.8f), f.camera, T_world_cam);
     ASSERT_EQ(pts.size(), 40u * 30u);
     // Pixel (0, 0) at 1 m: X_cam = ((0 - 19.5) / 50, (0 - 14.5) / 50, 1).
     const auto& p = pts[0];
@@ -70,26 +75,25 @@ TEST(BackProjector, MaskRangeAndStride)
     f.depth(cv::Rect(15, 0, 5, 30)).setTo(0.0f);  // no depth
     cv::Mat mask = cv::Mat::zeros(30, 40, CV_8UC1);
     mask(cv::Rect(20, 0, 10, 30)).setTo(255);  // dynamic
-    const auto seg = labelled(40, 30, 0, 0.9f);
     BackProjector bp{BackProjectionParameters()};
-    const auto pts = bp.project(f, seg, mask, mrpt::poses::CPose3D());
+    const auto pts = bp.project(images(f, 0, 0.9f, mask), f.camera, mrpt::poses::CPose3D());
     EXPECT_EQ(pts.size(), 10u * 30u);  // columns 30-39 only
     for (const auto& p : pts)
         EXPECT_GE(p.u, 30);
     BackProjectionParameters every3;
     every3.stride = 3;
     BackProjector sparse(every3);
-    EXPECT_EQ(sparse.project(f, seg, mask, mrpt::poses::CPose3D()).size(),
-              4u * 10u);  // u 30,33,36,39; v 0..27
+    // u = 30, 33, 36, 39 and v = 0, 3, ..., 27.
+    EXPECT_EQ(sparse.project(images(f, 0, 0.9f, mask), f.camera, mrpt::poses::CPose3D()).size(),
+              4u * 10u);
 }
 
 TEST(BackProjector, UndoesLensDistortion)
 {
     auto f = frame(64, 48, 1.5f);
     f.camera.distortion = {0.2, -0.1, 0.001, -0.002, 0.0};
-    const auto seg = labelled(64, 48, 9, 0.7f);
     BackProjector bp{BackProjectionParameters()};
-    const auto pts = bp.project(f, seg, cv::Mat(), mrpt::poses::CPose3D());
+    const auto pts = bp.project(images(f, 9, 0.7f), f.camera, mrpt::poses::CPose3D());
     ASSERT_EQ(pts.size(), 64u * 48u);
     // Reprojecting each point with the distorted camera lands on its pixel.
     std::vector<cv::Point3f> objects;

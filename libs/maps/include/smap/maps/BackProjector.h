@@ -11,10 +11,9 @@
 #include <opencv2/core/mat.hpp>
 #include <vector>
 
-#include "smap/core/RgbdFrame.h"
-#include "smap/segmentation/SegmentationResult.h"
+#include "smap/core/PinholeCamera.h"
 
-namespace smap::mapping
+namespace smap::maps
 {
 /// [backprojection] section.
 struct BackProjectionParameters : public mrpt::config::CLoadableOptions
@@ -43,12 +42,19 @@ class BackProjector
 public:
     explicit BackProjector(const BackProjectionParameters& params);
 
-    /// The static pixels (dynamicMask == 0; an empty mask: every pixel) of `frame` with valid
-    /// depth in [min_depth, max_depth], every stride-th, in the world frame. `segmentation`
-    /// must be at the frame's resolution; its labels and probabilities are carried.
-    std::vector<SemanticPoint> project(const core::RgbdFrame& frame,
-                                       const segmentation::SegmentationResult& segmentation,
-                                       const cv::Mat& dynamicMask,
+    /// One image of everything a pixel carries; all of one size, the camera's.
+    struct Images
+    {
+        cv::Mat colour;       ///< CV_8UC3 BGR
+        cv::Mat depth;        ///< CV_32FC1 metres, 0 = none
+        cv::Mat labels;       ///< CV_8UC1 class ids (255 = void)
+        cv::Mat confidence;   ///< CV_32FC1 probability of the label; empty: 1
+        cv::Mat dynamicMask;  ///< CV_8UC1, non-zero = dynamic (skipped); empty: none
+    };
+
+    /// The static pixels with valid depth in [min_depth, max_depth], every stride-th, in the
+    /// world frame, with colour, label and confidence.
+    std::vector<SemanticPoint> project(const Images& images, const core::PinholeCamera& camera,
                                        const mrpt::poses::CPose3D& T_world_cam);
 
     const BackProjectionParameters& parameters() const { return params_; }
@@ -61,4 +67,4 @@ private:
     core::PinholeCamera raysCamera_;
     cv::Mat rays_;  ///< CV_32FC2
 };
-}  // namespace smap::mapping
+}  // namespace smap::maps
