@@ -8,6 +8,8 @@ packages=(
     g++ cmake ninja-build ccache pkg-config
     # libraries
     libmrpt-dev libopencv-dev libeigen3-dev libceres-dev libgtest-dev libgmock-dev libbenchmark-dev zlib1g-dev
+    # the semantic OctoMap (libs/maps)
+    liboctomap-dev
     # MRPT's sample recordings (tests_rgbd.rawlog is the embedded default input)
     mrpt-common
     # headless OpenGL (EGL on Mesa) for the synthetic renderer

@@ -16,6 +16,7 @@
 #include "smap/core/InputError.h"
 #include "smap/core/LabelSet.h"
 #include "smap/maps/CObservationSemanticRGBD.h"
+#include "smap/maps/CSemanticOctoMap.h"
 
 IMPLEMENTS_SERIALIZABLE(CSemanticPointsMap, mrpt::maps::CMetricMap, smap::maps)
 
@@ -28,6 +29,7 @@ MRPT_INITIALIZER(smap_maps_registerClasses)
 {
     mrpt::rtti::registerClass(CLASS_ID(smap::maps::CSemanticPointsMap));
     mrpt::rtti::registerClass(CLASS_ID(smap::maps::CObservationSemanticRGBD));
+    mrpt::rtti::registerClass(CLASS_ID(smap::maps::CSemanticOctoMap));
 }
 
 namespace smap::maps
