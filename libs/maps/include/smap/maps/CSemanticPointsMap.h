@@ -55,6 +55,12 @@ public:
 
     /// Number of occupied voxels.
     size_t size() const { return voxels_.size(); }
+    /// Approximate memory use (voxels and hash table), bytes.
+    size_t memoryBytes() const
+    {
+        return voxels_.size() * (sizeof(uint64_t) + sizeof(Voxel) + 2 * sizeof(void*)) +
+               voxels_.bucket_count() * sizeof(void*);
+    }
     /// One point per voxel (mean position and colour; label with its share of the summed
     /// confidence as `confidence`), ordered by voxel index (deterministic).
     std::vector<SemanticPoint> points() const;
