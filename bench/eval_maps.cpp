@@ -5,14 +5,17 @@
 //   - label accuracy: occupied octomap voxels whose fused class is the ground-truth majority
 //     class of the static pixels (noise-free depth) that fell in them (or, for a voxel with
 //     none, in its 26 neighbours);
-//   - people in the map: occupied octomap voxels whose fused class is person;
+//   - people in the map: occupied octomap voxels that people's pixels (ground-truth
+//     instances) fell in at some keyframe and no static pixel ever did; and, as a second
+//     view, occupied voxels whose fused class is person;
 //   - geometry (with --noise-free): map points within 2 cm of the true surface (the
 //     noise-free depth of static pixels, all frames);
 //   - insertion time per keyframe (median) and memory of each map.
-// With --snapshots DIR, writes the map pictures. A timing/evaluation program, not a test.
+// With --espnet MODEL.onnx the labels come from ESPNetv2 + dense CRF instead of the ground
+// truth. With --snapshots DIR, writes the map pictures. An evaluation program, not a test.
 //
 // Usage: eval_maps [--preset walking_xyz] [--frames 150] [--every 5] [--noise-free]
-//                  [--snapshots DIR]
+//                  [--espnet MODEL.onnx] [--snapshots DIR]
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -33,6 +36,7 @@
 #include "smap/maps/CSemanticPointsMap.h"
 #include "smap/maps/MapSnapshot.h"
 #include "smap/pipeline/CommandLine.h"
+#include "smap/segmentation/SegmentationParameters.h"
 #include "smap/sim/SequenceGenerator.h"
 
 using namespace smap;
@@ -63,7 +67,8 @@ struct Result
 int run(int argc, char** argv)
 {
     pipeline::CommandLine cl;
-    cl.option("preset").option("frames").option("every").option("snapshots").flag("noise-free");
+    cl.option("preset").option("frames").option("every").option("snapshots").option("espnet");
+    cl.flag("noise-free");
     cl.parse(std::vector<std::string>(argv + 1, argv + argc));
     sim::GeneratorOptions o;
     o.preset = cl.value("preset").value_or("walking_xyz");
@@ -78,7 +83,18 @@ int run(int argc, char** argv)
     // 1 cm cells of the static pixels' noise-free points.
     std::unordered_map<int64_t, std::map<int, int>> votes;
     std::unordered_map<int64_t, std::vector<Eigen::Vector3f>> surface;
+    // 5 cm voxels that people's pixels (ground-truth instances) fell in at some keyframe.
+    std::unordered_map<int64_t, int> peopleCells;
     maps::BackProjector truthProjector{maps::BackProjectionParameters()};
+
+    std::unique_ptr<segmentation::Segmenter> segmenter;
+    if (const auto model = cl.value("espnet"))
+    {
+        segmentation::SegmentationParameters sp;
+        sp.onnx.model = *model;
+        segmenter = segmentation::makeSegmenter(sp);
+        segmenter->setMinLoggingLevel(mrpt::system::LVL_WARN);
+    }
 
     Result withAlgorithm, without;
     for (size_t i = 0; i < frames; i += every)
@@ -95,6 +111,25 @@ int run(int argc, char** argv)
             if (cell.size() < 4)
                 cell.push_back(p.position);
         }
+        cv::Mat people = r.labels == 15, notPeople = ~people;
+        maps::BackProjector::Images personTruth{r.colour, f.depthNoiseFree, r.labels, cv::Mat(),
+                                                notPeople};
+        for (const auto& p : truthProjector.project(personTruth, o.camera, f.T_world_cam))
+            peopleCells[cellKey(p.position, 0.05)]++;
+        // The segmentation: ground truth (confidence 0.9) or the network.
+        cv::Mat labelImage = r.labels;
+        cv::Mat confidence(r.labels.size(), CV_32FC1, cv::Scalar(0.9f));
+        if (segmenter)
+        {
+            core::RgbdFrame frame;
+            frame.colour = r.colour;
+            frame.depth = r.depth;
+            frame.camera = o.camera;
+            frame.name = std::to_string(i);
+            const auto seg = segmenter->segment(frame);
+            labelImage = seg.labels;
+            confidence = seg.labelConfidence();
+        }
         // Dynamic points: a perfect filter on a 12 px grid.
         std::vector<mapping::DynamicPoint> dynamicPoints;
         for (int v = 6; v < r.dynamic.rows; v += 12)
@@ -102,15 +137,15 @@ int run(int argc, char** argv)
                 if (r.dynamic.at<uint8_t>(v, u))
                     dynamicPoints.push_back({double(u), double(v), 0.0});
         const double t0 = nowMs();
-        const auto regions = finder.find(r.labels, r.depth, dynamicPoints);
+        const auto regions = finder.find(labelImage, r.depth, dynamicPoints);
         withAlgorithm.algorithmMs.push_back(nowMs() - t0);
 
         auto obs = maps::CObservationSemanticRGBD::Create();
         obs->camera = o.camera;
         obs->colour = r.colour;
         obs->depth = r.depth;
-        obs->labels = r.labels;
-        obs->confidence = cv::Mat(r.labels.size(), CV_32FC1, cv::Scalar(0.9f));
+        obs->labels = labelImage;
+        obs->confidence = confidence;
         for (auto [result, mask] :
              {std::pair{&withAlgorithm, regions.dynamicMask}, std::pair{&without, cv::Mat()}})
         {
@@ -127,20 +162,24 @@ int run(int argc, char** argv)
     std::fprintf(stderr, "\n");
 
     std::printf(
-        "%s, %zu keyframes (every %zu of %zu frames), %s depth, ground-truth labels "
-        "(confidence 0.9) and poses, dynamic points from the ground-truth mask\n",
+        "%s, %zu keyframes (every %zu of %zu frames), %s depth, %s, ground-truth "
+        "poses, dynamic points from the ground-truth mask\n",
         o.preset.c_str(), withAlgorithm.pointsMs.size(), every, frames,
-        o.noiseFreeDepth ? "noise-free" : "noisy (Kinect model)");
+        o.noiseFreeDepth ? "noise-free" : "noisy (Kinect model)",
+        segmenter ? segmenter->description().c_str() : "ground-truth labels (confidence 0.9)");
     std::printf("Algorithm 1: median %.2f ms per keyframe\n",
                 bench::median(withAlgorithm.algorithmMs));
     for (const auto& [name, res] :
          {std::pair{"Algorithm 1 on ", &withAlgorithm}, std::pair{"Algorithm 1 off", &without}})
     {
         const auto voxels = res->octo.occupiedVoxels();
-        size_t judged = 0, correct = 0, person = 0;
+        size_t judged = 0, correct = 0, person = 0, onPeople = 0;
         for (const auto& v : voxels)
         {
             person += v.label == 15;
+            // On people: space that only people filled (no static surface in it).
+            const int64_t key = cellKey(v.centre, 0.05);
+            onPeople += peopleCells.count(key) && !votes.count(key);
             // The voxel's own votes; without any (depth noise put the surface one voxel off),
             // the votes of its 26 neighbours together.
             std::map<int, int> tally;
@@ -185,9 +224,10 @@ int run(int argc, char** argv)
         }
         std::printf(
             "%s: octomap %zu occupied voxels, label accuracy %.2f%% (%zu with ground truth), "
-            "person voxels %.2f%%; points map %zu points, within 2 cm of the true surface "
-            "%.2f%%\n",
+            "on people %.2f%% (labelled person %.2f%%); points map %zu points, within 2 cm of "
+            "the true surface %.2f%%\n",
             name, voxels.size(), 100.0 * correct / std::max<size_t>(1, judged), judged,
+            100.0 * onPeople / std::max<size_t>(1, voxels.size()),
             100.0 * person / std::max<size_t>(1, voxels.size()), pts.size(),
             100.0 * near / std::max<size_t>(1, pts.size()));
         std::printf(
