@@ -84,6 +84,20 @@ void CObservationSemanticRGBD::validate() const
     check(dynamicMask, CV_8UC1, "dynamic mask", true);
 }
 
+mrpt::poses::CPose3D CObservationSemanticRGBD::cameraPose(
+    const std::optional<const mrpt::poses::CPose3D>& robotPose) const
+{
+    return (robotPose ? *robotPose : mrpt::poses::CPose3D()) + sensorPose;
+}
+
+std::vector<SemanticPoint> CObservationSemanticRGBD::staticPoints(
+    const mrpt::poses::CPose3D& T_world_cam, const BackProjectionParameters& params) const
+{
+    validate();
+    BackProjector projector(params);
+    return projector.project({colour, depth, labels, confidence, dynamicMask}, camera, T_world_cam);
+}
+
 uint8_t CObservationSemanticRGBD::serializeGetVersion() const
 {
     return 0;

@@ -89,23 +89,12 @@ void CSemanticOctoMap::TInsertionOptions::saveToConfigFile(mrpt::config::CConfig
     cfg.write(section, "label_log_floor", label_log_floor);
 }
 
-void CSemanticOctoMap::TRenderOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
-                                                          const std::string& section)
-{
-    colour_by_class = cfg.read_bool(section, "colour_by_class", colour_by_class);
-    point_size = cfg.read_double(section, "point_size", point_size);
-}
-
-void CSemanticOctoMap::TRenderOptions::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
-                                                        const std::string& section) const
-{
-    cfg.write(section, "colour_by_class", colour_by_class);
-    cfg.write(section, "point_size", point_size);
-}
-
 // ---- map definition ----
 
-CSemanticOctoMap::TMapDefinition::TMapDefinition() = default;
+CSemanticOctoMap::TMapDefinition::TMapDefinition()
+{
+    renderOpts.point_size = 4.0;  // as CSemanticOctoMap's own default
+}
 
 void CSemanticOctoMap::TMapDefinition::loadFromConfigFile_map_specific(
     const mrpt::config::CConfigFileBase& source, const std::string& prefix)
@@ -132,7 +121,10 @@ mrpt::maps::CMetricMap* CSemanticOctoMap::internal_CreateFromMapDefinition(
 
 // ---- life cycle ----
 
-CSemanticOctoMap::CSemanticOctoMap() : impl_(std::make_unique<Impl>()) {}
+CSemanticOctoMap::CSemanticOctoMap() : impl_(std::make_unique<Impl>())
+{
+    renderOptions.point_size = 4.0;  // voxels are sparser than the points map's points
+}
 CSemanticOctoMap::~CSemanticOctoMap() = default;
 
 CSemanticOctoMap::CSemanticOctoMap(const CSemanticOctoMap& other)
@@ -243,15 +235,11 @@ bool CSemanticOctoMap::internal_insertObservation(
     const auto* o = dynamic_cast<const CObservationSemanticRGBD*>(&obs);
     if (!o)
         return false;
-    o->validate();
-    const mrpt::poses::CPose3D T_world_cam =
-        (robotPose ? *robotPose : mrpt::poses::CPose3D()) + o->sensorPose;
-    BackProjector projector(insertionOptions.projection);
-    BackProjector::Images images{o->colour, o->depth, o->labels, o->confidence, o->dynamicMask};
-    insertPoints(
-        projector.project(images, o->camera, T_world_cam),
-        Eigen::Vector3f(static_cast<float>(T_world_cam.x()), static_cast<float>(T_world_cam.y()),
-                        static_cast<float>(T_world_cam.z())));
+    const mrpt::poses::CPose3D T_world_cam = o->cameraPose(robotPose);
+    const auto points = o->staticPoints(T_world_cam, insertionOptions.projection);
+    insertPoints(points, Eigen::Vector3f(static_cast<float>(T_world_cam.x()),
+                                         static_cast<float>(T_world_cam.y()),
+                                         static_cast<float>(T_world_cam.z())));
     return true;
 }
 

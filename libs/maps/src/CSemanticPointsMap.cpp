@@ -60,20 +60,6 @@ void CSemanticPointsMap::TInsertionOptions::saveToConfigFile(mrpt::config::CConf
     cfg.write(section, "stride", projection.stride);
 }
 
-void CSemanticPointsMap::TRenderOptions::loadFromConfigFile(
-    const mrpt::config::CConfigFileBase& cfg, const std::string& section)
-{
-    colour_by_class = cfg.read_bool(section, "colour_by_class", colour_by_class);
-    point_size = cfg.read_double(section, "point_size", point_size);
-}
-
-void CSemanticPointsMap::TRenderOptions::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
-                                                          const std::string& section) const
-{
-    cfg.write(section, "colour_by_class", colour_by_class);
-    cfg.write(section, "point_size", point_size);
-}
-
 // ---- map definition (CMultiMetricMap) ----
 
 CSemanticPointsMap::TMapDefinition::TMapDefinition() = default;
@@ -191,12 +177,9 @@ bool CSemanticPointsMap::internal_insertObservation(
     const auto* o = dynamic_cast<const CObservationSemanticRGBD*>(&obs);
     if (!o)
         return false;
-    o->validate();
-    const mrpt::poses::CPose3D T_world_cam =
-        (robotPose ? *robotPose : mrpt::poses::CPose3D()) + o->sensorPose;
-    BackProjector projector(insertionOptions.projection);
-    BackProjector::Images images{o->colour, o->depth, o->labels, o->confidence, o->dynamicMask};
-    insertPoints(projector.project(images, o->camera, T_world_cam));
+    const mrpt::poses::CPose3D T_world_cam = o->cameraPose(robotPose);
+    const auto points = o->staticPoints(T_world_cam, insertionOptions.projection);
+    insertPoints(points);
     return true;
 }
 

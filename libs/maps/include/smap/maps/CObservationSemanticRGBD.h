@@ -8,8 +8,11 @@
 #include <mrpt/poses/CPose3D.h>
 
 #include <opencv2/core/mat.hpp>
+#include <optional>
+#include <vector>
 
 #include "smap/core/PinholeCamera.h"
+#include "smap/maps/BackProjector.h"
 
 namespace smap::maps
 {
@@ -31,6 +34,13 @@ public:
 
     /// Throws std::invalid_argument when images and camera disagree in size or type.
     void validate() const;
+
+    /// The camera's pose in the world: robotPose (identity when absent) + sensorPose.
+    mrpt::poses::CPose3D cameraPose(
+        const std::optional<const mrpt::poses::CPose3D>& robotPose) const;
+    /// The static pixels back-projected into the world (validates first): what a map inserts.
+    std::vector<SemanticPoint> staticPoints(const mrpt::poses::CPose3D& T_world_cam,
+                                            const BackProjectionParameters& params) const;
 
     void getSensorPose(mrpt::poses::CPose3D& out) const override { out = sensorPose; }
     void setSensorPose(const mrpt::poses::CPose3D& p) override { sensorPose = p; }

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "smap/maps/BackProjector.h"
+#include "smap/maps/MapRenderOptions.h"
 
 namespace smap::maps
 {
@@ -44,16 +45,8 @@ public:
         void saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
                               const std::string& section) const override;
     };
-    struct TRenderOptions : public mrpt::config::CLoadableOptions
-    {
-        bool colour_by_class = true;
-        double point_size = 4.0;
-
-        void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
-                                const std::string& section) override;
-        void saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
-                              const std::string& section) const override;
-    };
+    /// Section "<map>_renderOpts".
+    using TRenderOptions = MapRenderOptions;
 
     struct Voxel
     {

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "smap/maps/BackProjector.h"
+#include "smap/maps/MapRenderOptions.h"
 
 namespace smap::maps
 {
@@ -33,16 +34,7 @@ public:
                               const std::string& section) const override;
     };
     /// Section "<map>_renderOpts".
-    struct TRenderOptions : public mrpt::config::CLoadableOptions
-    {
-        bool colour_by_class = true;  ///< else by the points' RGB
-        double point_size = 3.0;      ///< pixels
-
-        void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
-                                const std::string& section) override;
-        void saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
-                              const std::string& section) const override;
-    };
+    using TRenderOptions = MapRenderOptions;
 
     TInsertionOptions insertionOptions;
     TRenderOptions renderOptions;
