@@ -184,6 +184,10 @@ int EvalApp::run(const std::vector<std::string>& args, std::ostream& out)
             "expected 'smap-eval ate GT EST', 'smap-eval rpe GT EST', "
             "'smap-eval keypoints MASK_DIR DEBUG_DIR' or 'smap-eval segmentation GT_DIR "
             "PRED_DIR' (see --help)");
+    if (pos[0] != "segmentation")
+        for (const char* o : {"classes", "void", "min-area", "iou-threshold", "band", "labels"})
+            if (cl.has(o))
+                throw core::InputError(std::string("--") + o + " applies to 'segmentation' only");
     if (pos[0] == "keypoints")
         return scoreKeypoints(pos[1], pos[2], cl.value("json"), out);
     if (pos[0] == "segmentation")
