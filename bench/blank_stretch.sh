@@ -36,8 +36,9 @@ PY
     fi
     i=$((i + 1))
 done < "$src/associations.txt"
-"$root/build/bin/semantic-mapper" "$work/seq" --config "$config" --out "$work/out" --quiet "${@:5}"
+"$root/build/bin/semantic-mapper" "$work/seq" --config "$config" --out "$work/out" --quiet \
+    --set segmentation.backend=none --set output.snapshots=false --set output.annotated_rawlog=false "${@:5}"
 awk -F, -v a="$first" -v n="$count" 'NR > 1 && $1 >= a - 2 && $1 < a + n + 40 { print $1, $9, $11 }' \
     "$work/out/frames.csv" | awk '{ if ($2 != prev) { print "frame " $1 ": " $2 " (inliers " $3 ")"; prev = $2 } }'
-/usr/bin/python3 -c "import json,sys; t=json.load(open(sys.argv[1]))['tracking']; print('frames with pose %d, lost %d, relocalisations %d' % (t['frames_with_pose'], t['frames_lost'], t['relocalisations']))" "$work/out/summary.json"
+/usr/bin/python3 -c "import json,sys; t=json.load(open(sys.argv[1]))['tracking']; print('frames with pose %d, lost %d, relocalisations %d' % (t['frames_with_pose'], t['frames_lost'], t['relocalisations']))" "$work/out/metrics.json"
 "$root/build/bin/smap-eval" ate "$src/groundtruth.txt" "$work/out/trajectory.txt" | sed -n 1,3p

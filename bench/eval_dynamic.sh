@@ -31,20 +31,21 @@ twin() {
 }
 
 # run NAME INPUT GT MODE CONFIG [args] -> prints "rmse mean median std with_pose frames" of
-# the run with the median RMSE among $SMAP_EVAL_RUNS runs (default 3: local mapping runs in
-# its own thread, so runs differ by a few percent)
+# the run with the median RMSE among $SMAP_EVAL_RUNS runs (default 1: runs are deterministic
+# unless local_mapping.threaded = true is given, when they differ by a few percent)
 run() {
     local name="$1" input="$2" gt="$3" mode="$4" config="$5"
     shift 5
     local debug=() lines=""
     [ "$mode" = strong ] && [ -d "$input/dynamic" ] && debug=(--dynamic-debug all)
-    for r in $(seq 1 "${SMAP_EVAL_RUNS:-3}"); do
+    for r in $(seq 1 "${SMAP_EVAL_RUNS:-1}"); do
         local out="$cache/dyn-$name-$mode"
         [ "$r" -gt 1 ] && out="$cache/dyn-$name-$mode-run$r" && debug=()
         "$bin/semantic-mapper" "$input" --config "$config" --out "$out" --quiet \
-            --set "dynamic.mode=$mode" "${debug[@]}" "$@" >/dev/null
+            --set "dynamic.mode=$mode" --set segmentation.backend=none \
+            --set output.snapshots=false --set output.annotated_rawlog=false "${debug[@]}" "$@" >/dev/null
         "$bin/smap-eval" ate "$gt" "$out/trajectory.txt" --json "$out/ate.json" >/dev/null
-        lines+=$(/usr/bin/python3 -c "import json,sys; a=json.load(open(sys.argv[1])); s=json.load(open(sys.argv[2])); print(a['rmse'], a['mean'], a['median'], a['std'], s['tracking']['frames_with_pose'], s['frames'])" "$out/ate.json" "$out/summary.json")$'\n'
+        lines+=$(/usr/bin/python3 -c "import json,sys; a=json.load(open(sys.argv[1])); s=json.load(open(sys.argv[2])); print(a['rmse'], a['mean'], a['median'], a['std'], s['tracking']['frames_with_pose'], s['frames'])" "$out/ate.json" "$out/metrics.json")$'\n'
     done
     printf '%s' "$lines" | sort -g | awk '{l[NR]=$0} END{print l[int((NR+1)/2)]}'
 }

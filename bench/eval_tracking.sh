@@ -19,15 +19,17 @@ run_one() {
     local name="$1" input="$2" gt="$3"
     shift 3
     local out="$cache/out-$name"
-    "$bin/semantic-mapper" "$input" --out "$out" --quiet "$@" >/dev/null
+    # tracking alone: no keyframe segmentation or map outputs
+    "$bin/semantic-mapper" "$input" --out "$out" --quiet --set segmentation.backend=none \
+        --set output.snapshots=false --set output.annotated_rawlog=false "$@" >/dev/null
     local json="$out/ate.json"
     "$bin/smap-eval" ate "$gt" "$out/trajectory.txt" --json "$json" >/dev/null
-    /usr/bin/python3 - "$name" "$out/summary.json" "$json" <<'PY'
+    /usr/bin/python3 - "$name" "$out/metrics.json" "$json" <<'PY'
 import json, sys
 name, summary, ate = sys.argv[1:4]
 s = json.load(open(summary)); a = json.load(open(ate))
 print("%-22s %8d %10d %10.4f %10.4f %9.1f" % (name, s["frames"], s["tracking"]["frames_with_pose"],
-      a["rmse"], a["mean"], s["frames_per_second"]))
+      a["rmse"], a["mean"], s["timings"]["frames_per_second"]))
 PY
 }
 

@@ -1,4 +1,6 @@
 // semantic-mapper: thin entry point; the logic is smap::pipeline::SemanticMapperApp.
+#include <unistd.h>
+
 #include <iostream>
 
 #include "smap/pipeline/AppMain.h"
@@ -10,6 +12,8 @@ int main(int argc, char** argv)
                                       [&]
                                       {
                                           smap::pipeline::SemanticMapperApp app;
-                                          return app.run({argv + 1, argv + argc}, std::cout);
+                                          return app.run(
+                                              {argv + 1, argv + argc}, std::cout,
+                                              isatty(STDERR_FILENO) ? &std::cerr : nullptr);
                                       });
 }

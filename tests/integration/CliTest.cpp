@@ -2,8 +2,13 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
+#include <string>
+#include <vector>
 
 #include "TestData.h"
 
@@ -33,16 +38,88 @@ std::string bin(const std::string& name)
 {
     return smap::test::binDir() + "/" + name;
 }
+
+/// The number after "key": in `json`, searching from the first occurrence of each of `path` in
+/// turn (enough for our metrics.json); NaN when absent.
+double jsonNumber(const std::string& json, const std::vector<std::string>& path)
+{
+    size_t at = 0;
+    for (const auto& key : path)
+    {
+        at = json.find("\"" + key + "\":", at);
+        if (at == std::string::npos)
+            return std::nan("");
+        at += key.size() + 3;
+    }
+    return std::strtod(json.c_str() + at, nullptr);
+}
 }  // namespace
 
+// The README's main job, as shipped: the embedded sample through the default configuration
+// (ESPNetv2 + CRF on every keyframe when ../shared has the model). Trajectory accuracy and map
+// contents are checked with tolerances, as MRPT's own SLAM app tests do.
 TEST(Cli, MainJobRunsOnTheEmbeddedDefault)
 {
+    SMAP_REQUIRE_DATA(std::string(SMAP_SHARED_DIR) + "/models/espnetv2-voc");
     smap::test::TempDir dir;
     const CmdResult r = run(bin("semantic-mapper") + " --out " + (dir / "out"));
     EXPECT_EQ(r.code, 0) << r.output;
     EXPECT_NE(r.output.find("outputs in"), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("200 frames from"), std::string::npos) << r.output;
-    EXPECT_TRUE(std::ifstream(dir / "out/summary.json").good());
+    const std::string m = smap::test::readTextFile(dir / "out/metrics.json");
+    EXPECT_NE(m.find("espnetv2"), std::string::npos) << "segmented by the shipped model";
+    // Trajectory: ATE of the 200 synthetic frames (measured 2.1 cm) and every frame tracked.
+    EXPECT_LT(jsonNumber(m, {"evaluation", "ate", "rmse"}), 0.04) << m;
+    EXPECT_GE(jsonNumber(m, {"tracking", "frames_with_pose"}), 195.0) << m;
+    // Keyframes: all mapped; Algorithm 1 removes some pixels, not most.
+    const double kf = jsonNumber(m, {"keyframes", "submitted"});
+    EXPECT_GE(kf, 10.0);
+    EXPECT_EQ(jsonNumber(m, {"keyframes", "mapped"}), kf);
+    const double dyn = jsonNumber(m, {"keyframes", "dynamic_pixel_fraction"});
+    EXPECT_GT(dyn, 0.02) << "two people walk through the view";
+    EXPECT_LT(dyn, 0.40);
+    // Maps: the office (about 5 x 4 m) at 2 cm voxels and 5 cm octomap voxels (measured 123k
+    // points and 10k voxels).
+    EXPECT_GT(jsonNumber(m, {"map", "points"}), 60000.0) << m;
+    EXPECT_LT(jsonNumber(m, {"map", "points"}), 250000.0) << m;
+    EXPECT_GT(jsonNumber(m, {"map", "octomap_occupied_voxels"}), 5000.0) << m;
+    // The moving people against ground truth (Table III, dynamic mask): most keyframes with a
+    // person find part of them.
+    EXPECT_GT(jsonNumber(m, {"dynamic_mask", "classes", "iou"}), 0.2) << m;
+    for (const char* f : {"snapshots/map_by_class.png", "snapshots/map_by_colour.png",
+                          "snapshots/trajectory.png", "snapshots/ate.png", "semantic_points.ply",
+                          "semantic_octomap.ot", "annotated.rawlog", "semantic_map.bin"})
+        EXPECT_TRUE(std::ifstream(dir / (std::string("out/") + f)).good()) << f;
+}
+
+// Ctrl-C: the run stops reading, finishes the queued keyframes and writes complete outputs for
+// the frames it processed, and exits with 130.
+TEST(Cli, InterruptedRunLeavesCompleteOutputs)
+{
+    smap::test::TempDir dir;
+    // Started in the background; SIGINT once it has written its effective configuration (it
+    // is then processing frames), as a user's Ctrl-C would arrive.
+    const std::string out = dir / "out";
+    const CmdResult r = run("bash -c '" + bin("semantic-mapper") + " --out " + out +
+                            " --set segmentation.backend=none --set output.snapshots=false & "
+                            "pid=$!; for i in $(seq 100); do [ -f " +
+                            out +
+                            "/config-effective.ini ] && break; sleep 0.1; done; "
+                            "sleep 0.3; kill -INT $pid; wait $pid; echo exit=$?'");
+    EXPECT_NE(r.output.find("exit=130"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("interrupted"), std::string::npos) << r.output;
+    const std::string m = smap::test::readTextFile(dir / "out/metrics.json");
+    EXPECT_NE(m.find("\"interrupted\": true"), std::string::npos) << m;
+    const double frames = jsonNumber(m, {"frames"});
+    EXPECT_GT(frames, 0.0);
+    EXPECT_LT(frames, 200.0);
+    // The trajectory has a line for every tracked frame (2 comment lines).
+    const std::string traj = smap::test::readTextFile(dir / "out/trajectory.txt");
+    EXPECT_EQ(static_cast<double>(std::count(traj.begin(), traj.end(), '\n')) - 2.0,
+              jsonNumber(m, {"tracking", "frames_with_pose"}));
+    for (const char* f : {"semantic_points.ply", "semantic_octomap.ot", "annotated.rawlog",
+                          "frames.csv", "keyframes.txt"})
+        EXPECT_TRUE(std::ifstream(dir / (std::string("out/") + f)).good()) << f;
 }
 
 TEST(Cli, BadInputExitsWithCodeTwoAndNamesTheProblem)

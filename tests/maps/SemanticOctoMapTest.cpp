@@ -7,6 +7,7 @@
 #include <mrpt/serialization/CArchive.h>
 
 #include <cmath>
+#include <cstring>
 #include <fstream>
 #include <opencv2/core.hpp>
 
@@ -166,4 +167,42 @@ TEST(CSemanticOctoMap, FilesSerializationAndMultiMetricMap)
     EXPECT_TRUE(multi.insertObservation(*plane(2.0f, 15, 0.8f), mrpt::poses::CPose3D()));
     EXPECT_FALSE(octo->isEmpty());
     EXPECT_FALSE(multi.mapByClass<maps::CSemanticPointsMap>()->isEmpty());
+}
+
+// A copy is a deep copy with colours: octomap's own ColorOcTree copy constructor re-creates the
+// nodes without their colour (and reads past them); the copy's files and voxels must equal the
+// original's.
+TEST(CSemanticOctoMap, CopyKeepsEveryVoxelColourAndWritesTheSameFiles)
+{
+    CSemanticOctoMap map;
+    auto near = plane(1.5f, 15, 0.9f);
+    near->colour(cv::Rect(0, 0, 20, 30)).setTo(cv::Scalar(10, 220, 30));
+    map.insertObservation(*near);
+    map.insertObservation(*plane(2.5f, 9, 0.8f));
+    const CSemanticOctoMap copy = map;
+    const auto a = map.occupiedVoxels();
+    const auto b = copy.occupiedVoxels();
+    ASSERT_EQ(a.size(), b.size());
+    ASSERT_GT(a.size(), 50u);
+    for (size_t i = 0; i < a.size(); ++i)
+    {
+        EXPECT_EQ(a[i].centre, b[i].centre);
+        EXPECT_EQ(a[i].r, b[i].r);
+        EXPECT_EQ(a[i].g, b[i].g);
+        EXPECT_EQ(a[i].b, b[i].b);
+        EXPECT_EQ(a[i].label, b[i].label);
+    }
+    test::TempDir dir;
+    map.saveOt(dir / "a.ot", true);
+    copy.saveOt(dir / "b.ot", true);
+    const std::string fa = test::readTextFile(dir / "a.ot");
+    EXPECT_FALSE(fa.empty());
+    EXPECT_EQ(fa, test::readTextFile(dir / "b.ot"));
+    // Serializing the same map twice gives the same bytes.
+    mrpt::io::CMemoryStream s1, s2;
+    mrpt::serialization::archiveFrom(s1) << map;
+    mrpt::serialization::archiveFrom(s2) << copy;
+    ASSERT_EQ(s1.getTotalBytesCount(), s2.getTotalBytesCount());
+    EXPECT_EQ(0,
+              std::memcmp(s1.getRawBufferData(), s2.getRawBufferData(), s1.getTotalBytesCount()));
 }

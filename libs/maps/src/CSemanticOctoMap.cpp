@@ -13,6 +13,7 @@
 #include <map>
 #include <sstream>
 #include <unordered_map>
+#include <unordered_set>
 
 #include "smap/core/AtomicFile.h"
 #include "smap/core/InputError.h"
@@ -32,6 +33,29 @@ uint64_t packKey(const octomap::OcTreeKey& k)
 {
     return static_cast<uint64_t>(k[0]) | (static_cast<uint64_t>(k[1]) << 16) |
            (static_cast<uint64_t>(k[2]) << 32);
+}
+
+octomap::OcTreeKey unpackKey(uint64_t k)
+{
+    return octomap::OcTreeKey(static_cast<octomap::key_type>(k & 0xFFFF),
+                              static_cast<octomap::key_type>((k >> 16) & 0xFFFF),
+                              static_cast<octomap::key_type>((k >> 32) & 0xFFFF));
+}
+/// A deep copy. ColorOcTree's copy constructor is not one: OcTreeDataNode's copy constructor
+/// re-creates the children as base nodes without colour (reading their colour then reads past
+/// the allocation), so the tree goes through its own binary data stream instead.
+std::unique_ptr<octomap::ColorOcTree> cloneTree(const octomap::ColorOcTree& tree)
+{
+    auto copy = std::make_unique<octomap::ColorOcTree>(tree.getResolution());
+    copy->setProbHit(tree.getProbHit());
+    copy->setProbMiss(tree.getProbMiss());
+    copy->setClampingThresMin(tree.getClampingThresMin());
+    copy->setClampingThresMax(tree.getClampingThresMax());
+    copy->setOccupancyThres(tree.getOccupancyThres());
+    std::stringstream data;
+    tree.writeData(data);
+    copy->readData(data);
+    return copy;
 }
 }  // namespace
 
@@ -142,8 +166,7 @@ CSemanticOctoMap& CSemanticOctoMap::operator=(const CSemanticOctoMap& other)
         return *this;
     insertionOptions = other.insertionOptions;
     renderOptions = other.renderOptions;
-    impl_->tree =
-        other.impl_->tree ? std::make_unique<octomap::ColorOcTree>(*other.impl_->tree) : nullptr;
+    impl_->tree = other.impl_->tree ? cloneTree(*other.impl_->tree) : nullptr;
     impl_->classes = other.impl_->classes;
     return *this;
 }
@@ -177,15 +200,37 @@ void CSemanticOctoMap::insertPoints(const std::vector<SemanticPoint>& points,
 {
     ensureTree();
     auto& tree = *impl_->tree;
-    octomap::Pointcloud cloud;
-    cloud.reserve(points.size());
+    // Occupancy: rays clear what they cross, end points get a hit (discretised: one ray and one
+    // update per voxel and frame). Done here rather than with insertPointCloud, whose OpenMP
+    // ray casting updates the voxels in a thread-dependent order (pruning, and so the tree and
+    // its colours, would then differ between runs): the keys are updated in sorted order.
+    const octomap::point3d origin(sensorOrigin.x(), sensorOrigin.y(), sensorOrigin.z());
+    std::vector<uint64_t> hits;
+    std::unordered_set<uint64_t> hitSet;
+    std::unordered_set<uint64_t> freeSet;
+    octomap::KeyRay ray;
     for (const auto& p : points)
-        cloud.push_back(p.position.x(), p.position.y(), p.position.z());
-    // Occupancy: rays clear what they cross, end points get a hit (discretised: one update
-    // per voxel and frame).
-    tree.insertPointCloud(cloud,
-                          octomap::point3d(sensorOrigin.x(), sensorOrigin.y(), sensorOrigin.z()),
-                          -1.0, false, true);
+    {
+        const octomap::OcTreeKey key =
+            tree.coordToKey(p.position.x(), p.position.y(), p.position.z());
+        if (!hitSet.insert(packKey(key)).second)
+            continue;
+        hits.push_back(packKey(key));
+        if (tree.computeRayKeys(origin, tree.keyToCoord(key), ray))
+            for (const auto& k : ray)
+                freeSet.insert(packKey(k));
+    }
+    std::vector<uint64_t> misses;
+    misses.reserve(freeSet.size());
+    for (const uint64_t k : freeSet)
+        if (hitSet.count(k) == 0)
+            misses.push_back(k);
+    std::sort(misses.begin(), misses.end());
+    std::sort(hits.begin(), hits.end());
+    for (const uint64_t k : misses)
+        tree.updateNode(unpackKey(k), false);
+    for (const uint64_t k : hits)
+        tree.updateNode(unpackKey(k), true);
 
     // Colour (running mean) and class evidence, summed per voxel for this frame first.
     const int n = insertionOptions.label_count;
@@ -330,7 +375,7 @@ size_t CSemanticOctoMap::memoryBytes() const
 
 void CSemanticOctoMap::saveOt(const std::string& path, bool colourByClass) const
 {
-    auto copy = impl_->tree ? std::make_unique<octomap::ColorOcTree>(*impl_->tree)
+    auto copy = impl_->tree ? cloneTree(*impl_->tree)
                             : std::make_unique<octomap::ColorOcTree>(insertionOptions.resolution);
     if (colourByClass)
     {
@@ -355,7 +400,7 @@ void CSemanticOctoMap::saveOt(const std::string& path, bool colourByClass) const
 
 void CSemanticOctoMap::saveBt(const std::string& path) const
 {
-    auto copy = impl_->tree ? std::make_unique<octomap::ColorOcTree>(*impl_->tree)
+    auto copy = impl_->tree ? cloneTree(*impl_->tree)
                             : std::make_unique<octomap::ColorOcTree>(insertionOptions.resolution);
     core::writeFileAtomically(path,
                               [&](const std::string& tmp)

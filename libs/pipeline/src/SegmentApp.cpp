@@ -89,6 +89,10 @@ int SegmentApp::run(const std::vector<std::string>& args, std::ostream& out)
         sourceParams.max_frames = static_cast<size_t>(maxFrames);
 
     auto segmenter = segmentation::makeSegmenter(segParams);
+    if (!segmenter)
+        throw core::InputError(
+            "smap-segment needs a segmentation backend ([segmentation] "
+            "backend = none segments nothing)");
     segmenter->setMinLoggingLevel(getMinLoggingLevel());
     auto source = io::openFrameSource(cl.positionals()[0], sourceParams);
     source->setMinLoggingLevel(getMinLoggingLevel());

@@ -2,27 +2,38 @@
 
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/core/format.h>
-#include <mrpt/system/CTicTac.h>
+#include <sys/resource.h>
 
 #include <algorithm>
 #include <chrono>
+#include <exception>
 #include <filesystem>
+#include <opencv2/core/utility.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <stdexcept>
+#include <thread>
 
 #include "smap/core/AtomicFile.h"
 #include "smap/core/InputError.h"
 #include "smap/core/JsonWriter.h"
-#include "smap/dynamic/DynamicFilter.h"
 #include "smap/dynamic/EvidenceReport.h"
-#include "smap/features/OrbParameters.h"
+#include "smap/eval/AbsoluteTrajectoryError.h"
+#include "smap/eval/EvalReport.h"
+#include "smap/eval/RelativePoseError.h"
+#include "smap/eval/TrajectoryPlot.h"
 #include "smap/io/FrameSource.h"
+#include "smap/io/RawlogWriter.h"
 #include "smap/io/TumTextFormats.h"
 #include "smap/pipeline/AppConfiguration.h"
+#include "smap/pipeline/BoundedQueue.h"
 #include "smap/pipeline/CommandLine.h"
 #include "smap/pipeline/FrameSelection.h"
 #include "smap/pipeline/FrameSummary.h"
-#include "smap/slam/RgbdSlam.h"
+#include "smap/pipeline/InterruptWatcher.h"
+#include "smap/pipeline/KeyFrameScorer.h"
+#include "smap/pipeline/MapOutputWriter.h"
+#include "smap/pipeline/ProgressReporter.h"
+#include "smap/pipeline/SemanticMapper.h"
 
 namespace fs = std::filesystem;
 
@@ -31,13 +42,13 @@ namespace smap::pipeline
 namespace
 {
 /// DIR/dynamic/NNNNNN.png (the paper's Figure 4 style) and .csv (evidence per keypoint).
-void writeDynamicDebug(const std::string& outDir, size_t index, const core::RgbdFrame& frame,
-                       const features::FeatureSet& features, const dynamic::DynamicResult& dyn)
+void writeDynamicDebug(const std::string& outDir, size_t index,
+                       const SemanticMapper::PreparedFrame& p)
 {
     const fs::path dir = fs::path(outDir) / "dynamic";
     fs::create_directories(dir);
     const std::string stem = (dir / mrpt::format("%06zu", index)).string();
-    const cv::Mat picture = dynamic::drawEvidence(frame.colour, features, dyn);
+    const cv::Mat picture = dynamic::drawEvidence(p.rgbd.colour, p.features.features, p.dynamic);
     core::writeFileAtomically(stem + ".png",
                               [&](const std::string& tmp)
                               {
@@ -45,9 +56,55 @@ void writeDynamicDebug(const std::string& outDir, size_t index, const core::Rgbd
                                       throw std::runtime_error("cannot write " + stem + ".png");
                               });
     core::AtomicTextFile csv(stem + ".csv");
-    csv.stream() << dynamic::evidenceCsv(features, dyn);
+    csv.stream() << dynamic::evidenceCsv(p.features.features, p.dynamic);
     csv.commit();
 }
+
+double median(std::vector<double> v)
+{
+    if (v.empty())
+        return 0.0;
+    std::nth_element(v.begin(), v.begin() + static_cast<long>(v.size() / 2), v.end());
+    return v[v.size() / 2];
+}
+
+double sum(const std::vector<double>& v)
+{
+    double s = 0.0;
+    for (double x : v)
+        s += x;
+    return s;
+}
+
+/// {"median_ms", "total_s", "count"} of a list of per-item milliseconds.
+core::JsonValue timing(const std::vector<double>& ms)
+{
+    auto j = core::JsonValue::object();
+    j.set("median_ms", median(ms)).set("total_s", sum(ms) / 1000.0);
+    j.set("count", static_cast<uint64_t>(ms.size()));
+    return j;
+}
+
+double peakMemoryMiB()
+{
+    rusage u{};
+    getrusage(RUSAGE_SELF, &u);
+    return static_cast<double>(u.ru_maxrss) / 1024.0;  // kB on Linux
+}
+
+void writeText(const fs::path& path, const std::string& text)
+{
+    core::AtomicTextFile f(path.string());
+    f.stream() << text;
+    f.commit();
+}
+
+/// Per-frame figures kept for frames.csv.
+struct FrameRow
+{
+    FrameStats stats;
+    SemanticMapper::FrameResult result;
+};
 }  // namespace
 
 SemanticMapperApp::SemanticMapperApp() : COutputLogger("semantic-mapper") {}
@@ -61,37 +118,72 @@ std::string SemanticMapperApp::defaultInput()
 #endif
 }
 
+std::string SemanticMapperApp::defaultModel()
+{
+#ifdef SMAP_DEFAULT_MODEL
+    return SMAP_DEFAULT_MODEL;
+#else
+    return {};
+#endif
+}
+
+std::string SemanticMapperApp::configurationReference()
+{
+    io::FrameSourceParameters source;
+    SemanticMapperParameters params;
+    mrpt::config::CConfigFileMemory cfg;
+    source.saveToConfigFile(cfg, "");
+    for (const auto* p : std::as_const(params).parts())
+        p->saveToConfigFile(cfg, "");
+    return cfg.getContent();
+}
+
 std::string SemanticMapperApp::usage()
 {
-    return "Usage: semantic-mapper [INPUT] [--config FILE] [--out DIR] [--set "
-           "section.key=value]...\n"
+    return "Usage: semantic-mapper [INPUT] [--config FILE]... [--out DIR] [--gt FILE]\n"
+           "                       [--gt-labels DIR] [--set section.key=value]...\n"
            "\n"
            "  INPUT        an MRPT .rawlog (plain or gzip) or a TUM RGB-D folder;\n"
            "               default: the embedded sample " +
            defaultInput() +
            "\n"
-           "  --config F   INI or YAML configuration (see config/ and docs/configuration.md)\n"
+           "  --config F   INI configuration; several apply in order (camera preset, mode, ...;\n"
+           "               see config/ and docs/configuration.md)\n"
            "  --out DIR    output folder (default: smap-out)\n"
+           "  --gt F       ground-truth trajectory (TUM format) for ATE/RPE in metrics.json;\n"
+           "               default: the one the input ships (groundtruth.txt, "
+           "<rawlog>_groundtruth.txt)\n"
+           "  --gt-labels D  ground-truth labels/ and dynamic/ images per frame (smap-synth "
+           "layout)\n"
+           "               for Table III scores; default: <rawlog>_gt/ or <folder>/gt/ when "
+           "present\n"
            "  --set S.K=V  override one configuration key, e.g. --set input.max_frames=100\n"
            "  --dynamic-debug FRAMES  for these frames ('all' or e.g. '0,50-60') write\n"
-           "               DIR/dynamic/NNNNNN.png (static keypoints red dots, dynamic green +)\n"
-           "               and DIR/dynamic/NNNNNN.csv (per-keypoint evidence)\n"
+           "               DIR/dynamic/NNNNNN.png and .csv (the dynamic filter's evidence)\n"
+           "  --print-config  print every configuration key with its default and exit\n"
            "  --quiet      only warnings and errors\n"
            "  --help       this text\n"
            "\n"
-           "Outputs in DIR: trajectory.txt (TUM, every tracked frame), keyframes.txt,\n"
-           "               frames.csv (per-frame status and timings), summary.json,\n"
-           "               config-effective.ini.\n"
-           "Exit codes: 0 ok, 1 internal error, 2 bad input (arguments, configuration, data).\n";
+           "Outputs in DIR (docs/outputs.md): trajectory.txt (TUM, every tracked frame),\n"
+           "  keyframes.txt, semantic_map.bin (MRPT CMultiMetricMap), semantic_points.ply,\n"
+           "  semantic_octomap.ot/.bt, snapshots/*.png, annotated.rawlog (one\n"
+           "  CObservationSemanticRGBD per keyframe), metrics.json, frames.csv,\n"
+           "  config-effective.ini.\n"
+           "Exit codes: 0 ok, 1 internal error, 2 bad input (arguments, configuration, data),\n"
+           "  130 interrupted (Ctrl-C; the outputs cover the frames processed).\n";
 }
 
-int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& out)
+int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& out,
+                           std::ostream* progressStream)
 {
     CommandLine cl;
     cl.option("config")
         .option("out")
         .option("set")
+        .option("gt")
+        .option("gt-labels")
         .option("dynamic-debug")
+        .flag("print-config")
         .flag("help")
         .flag("quiet");
     cl.parse(args);
@@ -100,12 +192,17 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
         out << usage();
         return kExitOk;
     }
+    if (cl.has("print-config"))
+    {
+        out << configurationReference();
+        return kExitOk;
+    }
     if (cl.has("quiet"))
         setMinLoggingLevel(mrpt::system::LVL_WARN);
     if (cl.positionals().size() > 1)
         throw core::InputError("semantic-mapper takes at most one INPUT (see --help)");
 
-    std::string input = cl.positionals().empty() ? defaultInput() : cl.positionals()[0];
+    const std::string input = cl.positionals().empty() ? defaultInput() : cl.positionals()[0];
     if (input.empty())
         throw core::InputError(
             "no INPUT given and no embedded default recording was found at build time");
@@ -114,172 +211,378 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
         cl.has("dynamic-debug") ? FrameSelection::parse(*cl.value("dynamic-debug"), "dynamic-debug")
                                 : FrameSelection();
 
-    // Configuration: file, then --set overrides; every component loads its parameters once.
+    // Configuration: files, then --set overrides; every component loads its parameters once.
     io::FrameSourceParameters sourceParams;
-    features::OrbParameters orbParams;
-    slam::TrackerParameters trackingParams;
-    slam::LocalMappingParameters mappingParams;
-    dynamic::DynamicParameters dynamicParams;
-    loadAppConfiguration(
-        cl, {&sourceParams, &orbParams, &trackingParams, &mappingParams, &dynamicParams});
+    SemanticMapperParameters params;
+    {
+        std::vector<mrpt::config::CLoadableOptions*> parts = params.parts();
+        parts.insert(parts.begin(), &sourceParams);
+        loadAppConfiguration(cl, parts);
+    }
+    auto& seg = params.segmentation;
+    if (seg.backend == "onnx" && seg.onnx.model.empty())
+    {
+        if (!defaultModel().empty() && fs::exists(defaultModel()))
+            seg.onnx.model = defaultModel();
+        else
+        {
+            MRPT_LOG_WARN_STREAM("no segmentation model configured and the default "
+                                 << (defaultModel().empty() ? "(none)" : defaultModel())
+                                 << " does not exist: keyframes are not segmented "
+                                    "([segmentation] backend = none)");
+            seg.backend = "none";
+        }
+    }
+
+    const std::string gtPath = cl.value("gt").value_or("");
+    if (!gtPath.empty() && !fs::is_regular_file(gtPath))
+        throw core::InputError("--gt '" + gtPath + "' is not a file");
+    std::string gtLabels = cl.value("gt-labels").value_or("");
+    if (!gtLabels.empty() && !fs::is_directory(gtLabels))
+        throw core::InputError("--gt-labels '" + gtLabels + "' is not a folder");
 
     auto source = io::openFrameSource(input, sourceParams);
     source->setMinLoggingLevel(getMinLoggingLevel());
-    fs::create_directories(outDir);
-    MRPT_LOG_INFO_STREAM("reading " << source->description() << " -> " << outDir);
+    const std::string groundTruth = gtPath.empty() ? source->groundTruthPath() : gtPath;
+    if (gtLabels.empty())
+        gtLabels = KeyFrameScorer::findFor(input);
 
+    // Signals are blocked in this thread before any other starts, so every thread inherits it.
+    InterruptWatcher interrupt;
+    const auto tStart = std::chrono::steady_clock::now();
+    SemanticMapper mapper(params);
+    mapper.setLoggingLevel(getMinLoggingLevel());
+    if (params.pipeline.opencv_threads > 0)
+        cv::setNumThreads(params.pipeline.opencv_threads);
+    const double setupMs =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - tStart)
+            .count();
+
+    fs::create_directories(outDir);
+    const fs::path dir(outDir);
+    MRPT_LOG_INFO_STREAM("reading " << source->description() << " -> " << outDir
+                                    << "; keyframes segmented by "
+                                    << mapper.worker().segmenterDescription());
     {
         mrpt::config::CConfigFileMemory effective;
-        for (const mrpt::config::CLoadableOptions* p :
-             std::vector<const mrpt::config::CLoadableOptions*>{
-                 &sourceParams, &orbParams, &trackingParams, &mappingParams, &dynamicParams})
+        sourceParams.saveToConfigFile(effective, "");
+        for (const auto* p : std::as_const(params).parts())
             p->saveToConfigFile(effective, "");
-        core::AtomicTextFile f((fs::path(outDir) / "config-effective.ini").string());
-        f.stream() << "# effective configuration of semantic-mapper (defaults, --config, --set)\n"
-                   << effective.getContent();
-        f.commit();
+        writeText(dir / "config-effective.ini",
+                  "# effective configuration of semantic-mapper (defaults, --config, --set)\n" +
+                      effective.getContent());
     }
 
-    core::AtomicTextFile csv((fs::path(outDir) / "frames.csv").string());
-    csv.stream()
-        << frameStatsCsvHeader()
-        << ",status,keypoints,inliers,keyframe,extraction_ms,matching_ms,"
-           "optimisation_ms,tracking_ms,dynamic_keypoints,dynamic_filter_ms,dynamic_ego_ms,"
-           "dynamic_warp_ms,dynamic_flow_ms\n";
-    dynamic::DynamicFilter dynamicFilter(dynamicParams);
-    slam::RgbdSlam slam(orbParams, trackingParams, mappingParams);
-    slam.setLoggingLevel(getMinLoggingLevel());
-    std::vector<double> trackingMs, extractionMs;
-    size_t tracked = 0, lost = 0, relocalised = 0, reanchored = 0;
-    mrpt::system::CTicTac timer;
-    double lastReport = 0.0, sumValid = 0.0;
-    const auto total = source->sizeHint();
-    size_t n = 0;
-    double firstStamp = 0.0, lastStamp = 0.0;
-    core::PinholeCamera camera;
-    while (auto frame = source->next())
+    // Keyframe outputs, written by the worker thread in keyframe order.
+    std::unique_ptr<io::RawlogWriter> annotated;
+    if (params.pipeline.annotated_rawlog)
+        annotated = std::make_unique<io::RawlogWriter>((dir / "annotated.rawlog").string(), 0);
+    std::unique_ptr<KeyFrameScorer> scorer;
+    if (!gtLabels.empty())
+        scorer = std::make_unique<KeyFrameScorer>(gtLabels, mapper.worker().labels(),
+                                                  seg.backend != "none");
+    mapper.setKeyFrameObserver(
+        [&](const KeyFrameJob& job, const maps::CObservationSemanticRGBD& obs,
+            const mapping::DynamicRegions&)
+        {
+            if (annotated)
+                annotated->write(obs);
+            if (scorer)
+                scorer->add(job.frame.name, obs);
+        });
+
+    // Front end (read, decode, features, dynamic filter) in its own thread, feeding tracking.
+    const bool frontThread = params.pipeline.frame_queue > 0;
+    BoundedQueue<std::pair<FrameStats, SemanticMapper::PreparedFrame>> prepared(
+        static_cast<size_t>(std::max(1, params.pipeline.frame_queue)));
+    std::exception_ptr frontError;
+    std::vector<double> readMs;
+    size_t frameIndex = 0;
+    // Reads and prepares the next frame; false at the end of the input.
+    auto prepareNext = [&](std::pair<FrameStats, SemanticMapper::PreparedFrame>& item) -> bool
     {
+        const auto t0 = std::chrono::steady_clock::now();
+        auto frame = source->next();
+        if (!frame)
+            return false;
         frame->validate();
-        const FrameStats s = computeFrameStats(*frame);
-        const auto tExtract = std::chrono::steady_clock::now();
-        slam::Frame prepared = slam.prepare(*frame);
-        const double frameExtractionMs =
-            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - tExtract)
-                .count();
-        const dynamic::DynamicResult dyn =
-            dynamicFilter.process(frame->colour, frame->depth, prepared.features, frame->camera);
-        if (debugFrames.contains(n))
-            writeDynamicDebug(outDir, n, *frame, prepared.features, dyn);
-        prepared.setWeights(dyn.weights());
-        if (dyn.egoMotion.valid && dyn.framesBack > 0)
+        readMs.push_back(
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+                .count());
+        item.first = computeFrameStats(*frame);
+        item.second = mapper.prepare(*frame);
+        if (debugFrames.contains(frameIndex))
+            writeDynamicDebug(outDir, frameIndex, item.second);
+        frameIndex++;
+        return true;
+    };
+    std::thread front;
+    if (frontThread)
+    {
+        front = std::thread(
+            [&]
+            {
+                try
+                {
+                    std::pair<FrameStats, SemanticMapper::PreparedFrame> item;
+                    while (!interrupt.interrupted() && prepareNext(item))
+                        if (!prepared.push(std::move(item)))
+                            break;
+                }
+                catch (...)
+                {
+                    frontError = std::current_exception();
+                }
+                prepared.close();
+            });
+    }
+    auto nextPrepared = [&]() -> std::optional<std::pair<FrameStats, SemanticMapper::PreparedFrame>>
+    {
+        if (frontThread)
+            return prepared.pop();
+        std::pair<FrameStats, SemanticMapper::PreparedFrame> item;
+        if (interrupt.interrupted() || !prepareNext(item))
+            return std::nullopt;
+        return item;
+    };
+
+    std::vector<FrameRow> rows;
+    ProgressReporter progress(source->sizeHint(), progressStream, *this);
+    size_t tracked = 0, lost = 0, relocalised = 0, reanchored = 0;
+    double firstStamp = 0.0, lastStamp = 0.0, sumValid = 0.0;
+    core::PinholeCamera camera;
+    std::exception_ptr trackError;
+    try
+    {
+        while (auto item = nextPrepared())
         {
-            prepared.odometry_T_cam_earlier = dyn.egoMotion.T_cur_prev;
-            prepared.odometryFramesBack = dyn.framesBack;
-        }
-        slam::TrackingResult tr = slam.track(std::move(prepared));
-        tr.timings.extraction_ms = frameExtractionMs;
-        tracked += slam::hasPose(tr.status) ? 1 : 0;
-        lost += tr.status == slam::TrackingStatus::Lost ? 1 : 0;
-        relocalised += tr.status == slam::TrackingStatus::Relocalised ? 1 : 0;
-        reanchored += tr.status == slam::TrackingStatus::Reanchored ? 1 : 0;
-        trackingMs.push_back(tr.timings.total_ms);
-        extractionMs.push_back(tr.timings.extraction_ms);
-        csv.stream() << toCsvRow(s) << "," << slam::toString(tr.status) << "," << tr.keypoints
-                     << "," << tr.inliers << "," << (tr.newKeyFrame ? 1 : 0) << ","
-                     << mrpt::format("%.3f,%.3f,%.3f,%.3f", tr.timings.extraction_ms,
-                                     tr.timings.matching_ms, tr.timings.optimisation_ms,
-                                     tr.timings.total_ms)
-                     << "," << dyn.numDynamic() << ","
-                     << mrpt::format("%.3f,%.3f,%.3f,%.3f", dyn.milliseconds,
-                                     dyn.egoMotionMilliseconds, dyn.warpMilliseconds,
-                                     dyn.flowMilliseconds)
-                     << "\n";
-        if (n == 0)
-        {
-            firstStamp = frame->timestamp;
-            camera = frame->camera;
-        }
-        lastStamp = frame->timestamp;
-        sumValid += s.validDepthFraction;
-        n++;
-        const double t = timer.Tac();
-        if (t - lastReport > 2.0)
-        {
-            lastReport = t;
-            const double fps = n / t;
-            if (total)
-                MRPT_LOG_INFO_FMT("frame %zu / %zu  %.1f frames/s  ETA %.0f s  (%zu lost)", n,
-                                  *total, fps, (*total - n) / fps, lost);
-            else
-                MRPT_LOG_INFO_FMT("frame %zu  %.1f frames/s  (%zu lost)", n, fps, lost);
+            const double stamp = item->second.rgbd.timestamp;
+            if (rows.empty())
+            {
+                firstStamp = stamp;
+                camera = item->second.rgbd.camera;
+            }
+            lastStamp = stamp;
+            FrameRow row{item->first, mapper.track(std::move(item->second))};
+            const auto status = row.result.tracking.status;
+            tracked += slam::hasPose(status) ? 1 : 0;
+            lost += status == slam::TrackingStatus::Lost ? 1 : 0;
+            relocalised += status == slam::TrackingStatus::Relocalised ? 1 : 0;
+            reanchored += status == slam::TrackingStatus::Reanchored ? 1 : 0;
+            sumValid += row.stats.validDepthFraction;
+            rows.push_back(row);
+            progress.update(rows.size(), mrpt::format("%zu keyframes, %zu lost",
+                                                      mapper.keyframesSubmitted(), lost));
         }
     }
-    slam.finish();
-    csv.commit();
-    const double elapsed = timer.Tac();
-    const core::Trajectory trajectory = slam.trajectory();
-    io::writeTumTrajectory((fs::path(outDir) / "trajectory.txt").string(), trajectory,
+    catch (...)
+    {
+        trackError = std::current_exception();
+    }
+    prepared.close();
+    if (front.joinable())
+        front.join();
+    progress.finish();
+    if (trackError)
+        std::rethrow_exception(trackError);
+    if (frontError)
+        std::rethrow_exception(frontError);
+    const bool interrupted = interrupt.interrupted();
+    if (interrupted)
+        MRPT_LOG_WARN_FMT(
+            "interrupted after %zu frames: finishing the keyframes queued and "
+            "writing the outputs (Ctrl-C again to abort)",
+            rows.size());
+    const double trackingWallS =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - tStart).count();
+
+    // Drain the worker, re-anchor, write.
+    const auto tFinish = std::chrono::steady_clock::now();
+    const auto reanchor = mapper.finish();
+    const double finishS =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - tFinish).count();
+    if (annotated)
+        annotated->commit();
+    const size_t n = rows.size();
+    const core::Trajectory trajectory = mapper.trajectory();
+    io::writeTumTrajectory((dir / "trajectory.txt").string(), trajectory,
                            "camera (optical frame) poses of every tracked frame, world = first "
                            "tracked camera");
-    io::writeTumTrajectory((fs::path(outDir) / "keyframes.txt").string(), slam.keyFrameTrajectory(),
+    io::writeTumTrajectory((dir / "keyframes.txt").string(), mapper.keyFrameTrajectory(),
                            "keyframe poses after local BA");
-    auto median = [](std::vector<double> v)
     {
-        if (v.empty())
-            return 0.0;
-        std::nth_element(v.begin(), v.begin() + static_cast<long>(v.size() / 2), v.end());
-        return v[v.size() / 2];
-    };
-    const auto mapStats = slam.mappingStats();
+        std::string csv = frameStatsCsvHeader() +
+                          ",status,keypoints,inliers,keyframe,extraction_ms,matching_ms,"
+                          "optimisation_ms,tracking_ms,dynamic_keypoints,dynamic_filter_ms,"
+                          "keyframe_queue_wait_ms\n";
+        for (const auto& r : rows)
+        {
+            const auto& t = r.result.tracking;
+            csv +=
+                toCsvRow(r.stats) + "," + slam::toString(t.status) + "," +
+                std::to_string(t.keypoints) + "," + std::to_string(t.inliers) + "," +
+                (t.newKeyFrame ? "1" : "0") + "," +
+                mrpt::format("%.3f,%.3f,%.3f,%.3f", t.timings.extraction_ms, t.timings.matching_ms,
+                             t.timings.optimisation_ms, t.timings.total_ms) +
+                "," + std::to_string(r.result.dynamicKeypoints) + "," +
+                mrpt::format("%.3f,%.3f\n", r.result.dynamicMs, r.result.queueWaitMs);
+        }
+        writeText(dir / "frames.csv", csv);
+    }
 
-    auto cam = core::JsonValue::object();
-    cam.set("width", camera.width)
-        .set("height", camera.height)
-        .set("fx", camera.fx)
-        .set("fy", camera.fy);
-    cam.set("cx", camera.cx).set("cy", camera.cy);
-    auto dist = core::JsonValue::array();
-    for (double d : camera.distortion)
-        dist.push(core::JsonValue::number(d));
-    cam.set("distortion_k1_k2_p1_p2_k3", dist);
-    auto summary = core::JsonValue::object();
-    summary.set("input", fs::absolute(input).string()).set("source", source->description());
-    summary.set("frames", static_cast<uint64_t>(n));
-    summary.set("first_timestamp", firstStamp).set("last_timestamp", lastStamp);
-    summary.set("duration_s", lastStamp - firstStamp);
-    summary.set("mean_valid_depth_fraction", n ? sumValid / n : 0.0);
-    summary.set("camera", cam);
-    summary.set("ground_truth", source->groundTruthPath());
+    const auto tOut = std::chrono::steady_clock::now();
+    std::vector<std::string> files = {"trajectory.txt", "keyframes.txt", "frames.csv",
+                                      "config-effective.ini"};
+    if (annotated)
+        files.emplace_back("annotated.rawlog");
+    maps::SnapshotOptions snap;
+    snap.width = params.pipeline.snapshot_width;
+    snap.height = params.pipeline.snapshot_height;
+    snap.labels = mapper.worker().labels();
+    const MapOutputWriter writer(outDir, snap);
+    size_t mapPoints = 0, octoVoxels = 0, contributionBytes = 0, mapBytes = 0;
+    mapper.withMaps(
+        [&](mapping::SemanticMapBuilder& b)
+        {
+            for (auto& f : writer.writeMaps(b))
+                files.push_back(std::move(f));
+            if (params.pipeline.snapshots)
+                for (auto& f : writer.writeSnapshots(b, trajectory))
+                    files.push_back(std::move(f));
+            mapPoints = b.pointsMap().size();
+            octoVoxels = b.octoMap().occupiedVoxels().size();
+            contributionBytes = b.contributionBytes();
+            mapBytes = b.pointsMap().memoryBytes() + b.octoMap().memoryBytes();
+        });
+    const double outputS =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - tOut).count();
+
+    // metrics.json
+    std::vector<double> extractionMs, trackingMs, dynamicMs, waitMs;
+    for (const auto& r : rows)
+    {
+        extractionMs.push_back(r.result.tracking.timings.extraction_ms);
+        trackingMs.push_back(r.result.tracking.timings.total_ms);
+        dynamicMs.push_back(r.result.dynamicMs);
+        waitMs.push_back(r.result.queueWaitMs);
+    }
+    const auto ws = mapper.worker().stats();
+    const auto ms = mapper.slam().mappingStats();
+    const double elapsed =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - tStart).count();
+
+    auto metrics = core::JsonValue::object();
+    metrics.set("input", fs::absolute(input).string()).set("source", source->description());
+    metrics.set("interrupted", interrupted);
+    metrics.set("frames", static_cast<uint64_t>(n));
+    metrics.set("duration_s", lastStamp - firstStamp);
+    metrics.set("mean_valid_depth_fraction", n ? sumValid / static_cast<double>(n) : 0.0);
+    {
+        auto cam = core::JsonValue::object();
+        cam.set("width", camera.width).set("height", camera.height).set("fx", camera.fx);
+        cam.set("fy", camera.fy).set("cx", camera.cx).set("cy", camera.cy);
+        metrics.set("camera", cam);
+    }
     auto tracking = core::JsonValue::object();
     tracking.set("frames_with_pose", static_cast<uint64_t>(tracked))
         .set("frames_lost", static_cast<uint64_t>(lost))
         .set("relocalisations", static_cast<uint64_t>(relocalised))
         .set("reanchors", static_cast<uint64_t>(reanchored))
-        .set("keyframes", static_cast<uint64_t>(slam.numKeyFrames()))
-        .set("keyframes_culled", static_cast<uint64_t>(mapStats.keyframesCulled))
-        .set("map_points", static_cast<uint64_t>(slam.numPoints()))
-        .set("median_extraction_ms", median(extractionMs))
-        .set("median_tracking_ms", median(trackingMs))
-        .set("local_ba_runs", static_cast<uint64_t>(mapStats.baRuns))
-        .set("local_mapping_s", mapStats.totalSeconds);
-    summary.set("tracking", tracking);
-    summary.set("processing_time_s", elapsed)
-        .set("frames_per_second", elapsed > 0 ? n / elapsed : 0.0);
+        .set("keyframes", static_cast<uint64_t>(mapper.slam().numKeyFrames()))
+        .set("keyframes_culled", static_cast<uint64_t>(ms.keyframesCulled))
+        .set("map_points", static_cast<uint64_t>(mapper.slam().numPoints()))
+        .set("local_ba_runs", static_cast<uint64_t>(ms.baRuns));
+    metrics.set("tracking", tracking);
+    auto kf = core::JsonValue::object();
+    kf.set("submitted", static_cast<uint64_t>(mapper.keyframesSubmitted()))
+        .set("mapped", static_cast<uint64_t>(ws.keyframes))
+        .set("dropped_queue_full", static_cast<uint64_t>(ws.dropped))
+        .set("tracking_waited_queue_full", static_cast<uint64_t>(ws.waits))
+        .set("queue_capacity", params.pipeline.keyframe_queue)
+        .set("queue_high_water", static_cast<uint64_t>(ws.queueHighWater))
+        .set("segmenter", mapper.worker().segmenterDescription())
+        .set("dynamic_pixel_fraction",
+             ws.dynamicPixels + ws.staticPixels > 0
+                 ? static_cast<double>(ws.dynamicPixels) /
+                       static_cast<double>(ws.dynamicPixels + ws.staticPixels)
+                 : 0.0);
+    metrics.set("keyframes", kf);
+    auto mapj = core::JsonValue::object();
+    mapj.set("points", static_cast<uint64_t>(mapPoints))
+        .set("octomap_occupied_voxels", static_cast<uint64_t>(octoVoxels))
+        .set("map_memory_mib", static_cast<double>(mapBytes) / (1024.0 * 1024.0))
+        .set("contributions_mib", static_cast<double>(contributionBytes) / (1024.0 * 1024.0))
+        .set("reanchored_keyframes", static_cast<uint64_t>(reanchor.moved))
+        .set("rebuilt", reanchor.rebuilt)
+        .set("max_keyframe_correction_m", reanchor.maxTranslation)
+        .set("max_keyframe_correction_deg", reanchor.maxRotationDeg);
+    metrics.set("map", mapj);
+    auto timings = core::JsonValue::object();
+    timings.set("setup_s", setupMs / 1000.0)
+        .set("read_decode", timing(readMs))
+        .set("feature_extraction", timing(extractionMs))
+        .set("dynamic_filter", timing(dynamicMs))
+        .set("tracking", timing(trackingMs))
+        .set("keyframe_queue_wait", timing(waitMs))
+        .set("local_mapping_total_s", ms.totalSeconds)
+        .set("segmentation", timing(ws.segmentationMs))
+        .set("association", timing(ws.associationMs))
+        .set("map_insertion", timing(ws.insertionMs))
+        .set("keyframe_outputs", timing(ws.observerMs))
+        .set("frames_done_s", trackingWallS)
+        .set("finish_s", finishS)
+        .set("outputs_s", outputS)
+        .set("total_s", elapsed)
+        .set("frames_per_second", elapsed > 0 ? static_cast<double>(n) / elapsed : 0.0)
+        .set("peak_memory_mib", peakMemoryMiB());
+    metrics.set("timings", timings);
+    metrics.set("threads",
+                mrpt::format("front end %s, tracking, local mapping %s, keyframe worker",
+                             frontThread ? "(own thread)" : "(on tracking)",
+                             params.localMapping.threaded ? "(own thread)" : "(on tracking)"));
+    if (!groundTruth.empty())
     {
-        core::AtomicTextFile f((fs::path(outDir) / "summary.json").string());
-        f.stream() << summary.dump();
-        f.commit();
+        const core::Trajectory gt = io::readTumTrajectory(groundTruth);
+        auto ev = core::JsonValue::object();
+        ev.set("ground_truth", fs::absolute(groundTruth).string());
+        try
+        {
+            const eval::AteOptions ao;
+            const auto ate = eval::computeAte(gt, trajectory, ao);
+            ev.set("ate", eval::ateToJson(ate, ao));
+            eval::saveAtePlot((dir / "snapshots" / "ate.png").string(), ate);
+            files.emplace_back("snapshots/ate.png");
+            eval::RpeOptions ro;
+            ev.set("rpe_1s", eval::rpeToJson(eval::computeRpe(gt, trajectory, ro), ro));
+            MRPT_LOG_INFO_FMT("ATE RMSE %.4f m over %zu poses", ate.translation.rmse, ate.pairs);
+        }
+        catch (const std::exception& e)
+        {
+            // Too few matching poses (a very short or lost run): the run's outputs still count.
+            ev.set("error", e.what());
+            MRPT_LOG_WARN_STREAM("no trajectory evaluation: " << e.what());
+        }
+        metrics.set("evaluation", ev);
     }
+    if (scorer)
+    {
+        metrics.set("segmentation_scores", scorer->toJson());
+        MRPT_LOG_INFO_STREAM(scorer->toText());
+    }
+    writeText(dir / "metrics.json", metrics.dump());
+    files.emplace_back("metrics.json");
 
-    result_ = {n, outDir, input};
+    result_ = {n, ws.keyframes, interrupted, outDir, input};
     MRPT_LOG_INFO_FMT(
-        "%zu frames in %.2f s (%.1f frames/s): %zu with a pose, %zu lost, %zu "
-        "keyframes, %zu map points",
-        n, elapsed, elapsed > 0 ? n / elapsed : 0.0, tracked, lost, slam.numKeyFrames(),
-        slam.numPoints());
-    out << "semantic-mapper: " << n << " frames from " << input << ", " << tracked << " tracked\n"
-        << "outputs in " << fs::absolute(outDir).string()
-        << "/: trajectory.txt, keyframes.txt, summary.json, frames.csv, config-effective.ini\n";
-    return kExitOk;
+        "%zu frames in %.2f s (%.1f frames/s): %zu with a pose, %zu lost, %zu keyframes mapped, "
+        "%zu map points",
+        n, elapsed, elapsed > 0 ? static_cast<double>(n) / elapsed : 0.0, tracked, lost,
+        ws.keyframes, mapPoints);
+    out << "semantic-mapper: " << n << " frames from " << input << ", " << tracked << " tracked, "
+        << ws.keyframes << " keyframes mapped" << (interrupted ? " (interrupted)" : "")
+        << "\noutputs in " << fs::absolute(outDir).string() << "/:\n";
+    for (const auto& f : files)
+        out << "  " << f << "\n";
+    return interrupted ? kExitInterrupted : kExitOk;
 }
 }  // namespace smap::pipeline

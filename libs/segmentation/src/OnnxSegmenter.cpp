@@ -140,6 +140,10 @@ OnnxSegmenter::OnnxSegmenter(const OnnxSegmenterParameters& params, core::LabelS
     const std::string& path = params_.model;
     if (path.empty())
         throw core::InputError("[onnx] model is not set: give the path of an .onnx file");
+    // Process-wide, and so only here: changing it while other threads run OpenCV's parallel
+    // loops crashes OpenCV's TBB back end.
+    if (params_.threads > 0)
+        cv::setNumThreads(params_.threads);
     if (!std::filesystem::is_regular_file(path))
         throw core::InputError("ONNX model '" + path + "' does not exist or is not a file");
 
@@ -229,8 +233,6 @@ cv::Mat OnnxSegmenter::inputBlob(const cv::Mat& bgr) const
 
 cv::Mat OnnxSegmenter::forward(const cv::Mat& bgr)
 {
-    if (params_.threads > 0)
-        cv::setNumThreads(params_.threads);
     impl_->net.setInput(inputBlob(bgr));
     return impl_->net.forward().clone();
 }

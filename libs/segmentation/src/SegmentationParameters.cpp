@@ -13,9 +13,9 @@ void SegmentationParameters::loadFromConfigFile(const mrpt::config::CConfigFileB
     const char* s = "segmentation";
     backend = cfg.read_string(s, "backend", backend);
     labels = cfg.read_string(s, "labels", labels);
-    if (backend != "onnx" && backend != "label_images")
+    if (backend != "onnx" && backend != "label_images" && backend != "none")
         throw core::InputError("[segmentation] backend = '" + backend +
-                               "' is not one of: onnx, label_images");
+                               "' is not one of: onnx, label_images, none");
     onnx.loadFromConfigFile(cfg, "onnx");
     label_images.loadFromConfigFile(cfg, "label_images");
     crf.loadFromConfigFile(cfg, "crf");
@@ -39,6 +39,8 @@ core::LabelSet loadLabelSet(const SegmentationParameters& params)
 
 std::unique_ptr<Segmenter> makeSegmenter(const SegmentationParameters& params)
 {
+    if (params.backend == "none")
+        return nullptr;
     core::LabelSet labels = loadLabelSet(params);
     std::unique_ptr<Segmenter> s;
     if (params.backend == "onnx")

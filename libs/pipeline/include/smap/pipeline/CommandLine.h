@@ -42,5 +42,6 @@ enum ExitCode : int
     kExitOk = 0,
     kExitInternalError = 1,  ///< a bug or an environment failure (disk full, ...)
     kExitBadInput = 2,       ///< bad arguments, configuration or input data
+    kExitInterrupted = 130,  ///< stopped by Ctrl-C / SIGTERM (outputs cover what was processed)
 };
 }  // namespace smap::pipeline

@@ -1,5 +1,5 @@
-// The semantic-mapper command: reads an RGB-D recording and writes its outputs to a folder.
-// Stages land one by one; today it reads and decodes every frame and writes a summary of them.
+// The semantic-mapper command: an RGB-D recording in; trajectory, semantic maps, snapshots,
+// an annotated rawlog and metrics out (README.md, docs/outputs.md).
 #pragma once
 
 #include <mrpt/system/COutputLogger.h>
@@ -16,20 +16,30 @@ public:
     struct Result
     {
         size_t frames = 0;
+        size_t keyframes = 0;
+        bool interrupted = false;
         std::string outputDirectory;
         std::string input;
     };
 
     SemanticMapperApp();
 
-    /// Runs with the arguments after the program name. Returns an ExitCode; throws
-    /// core::InputError for bad arguments, configuration or data.
-    int run(const std::vector<std::string>& args, std::ostream& out);
+    /// Runs with the arguments after the program name. Returns an ExitCode (kExitInterrupted
+    /// after Ctrl-C, with complete outputs for the frames processed); throws core::InputError
+    /// for bad arguments, configuration or data. `progress`: where the in-place progress line
+    /// goes when it is a terminal (null: log lines).
+    int run(const std::vector<std::string>& args, std::ostream& out,
+            std::ostream* progress = nullptr);
     const Result& result() const { return result_; }
 
     static std::string usage();
     /// The embedded default recording used when no INPUT is given.
     static std::string defaultInput();
+    /// The segmentation model used when the configuration names none (may not exist).
+    static std::string defaultModel();
+    /// Every configuration key with its default and the comment of its section, as an INI
+    /// file (docs/config-reference.ini is generated from it).
+    static std::string configurationReference();
 
 private:
     Result result_;

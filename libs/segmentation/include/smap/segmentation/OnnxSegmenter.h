@@ -33,8 +33,8 @@ struct OnnxSegmenterParameters : public mrpt::config::CLoadableOptions
     /// "model_class:label" pairs for model classes whose name is not in the label set (their
     /// probabilities are added to that label's); "model_class:void" drops a class.
     std::vector<std::pair<std::string, std::string>> class_map;
-    /// Worker threads of OpenCV's parallel framework (process-wide: cv::setNumThreads); 0 =
-    /// OpenCV's default.
+    /// Worker threads of OpenCV's parallel framework (process-wide: cv::setNumThreads, set
+    /// once when the segmenter is created); 0 = leave it as it is.
     int threads = 2;
 
     OnnxSegmenterParameters();

@@ -15,7 +15,8 @@ namespace smap::segmentation
 {
 struct SegmentationParameters : public mrpt::config::CLoadableOptions
 {
-    /// "onnx" (a CNN through cv::dnn) or "label_images" (precomputed label images).
+    /// "onnx" (a CNN through cv::dnn), "label_images" (precomputed label images) or "none"
+    /// (no segmentation: every pixel is void).
     std::string backend = "onnx";
     /// Label table (config/labels/*.csv); empty = the built-in PASCAL VOC table.
     std::string labels;
@@ -32,7 +33,7 @@ struct SegmentationParameters : public mrpt::config::CLoadableOptions
 /// The label set of `params` (loaded from its CSV, or PASCAL VOC).
 core::LabelSet loadLabelSet(const SegmentationParameters& params);
 
-/// The configured backend, wrapped in the dense CRF when [crf] enabled. Throws
+/// The configured backend, wrapped in the dense CRF when [crf] enabled; nullptr for "none". Throws
 /// core::InputError for a bad model, folder or label table.
 std::unique_ptr<Segmenter> makeSegmenter(const SegmentationParameters& params);
 }  // namespace smap::segmentation

@@ -50,7 +50,7 @@ struct LocalMappingParameters : public mrpt::config::CLoadableOptions
 {
     /// Run local mapping in its own thread (tracking never waits for it). false: every
     /// keyframe is processed before the next frame is tracked, results are deterministic.
-    bool threaded = true;
+    bool threaded = false;
     int ba_max_keyframes = 20;         ///< the keyframe and its strongest covisible ones move
     int ba_iterations = 5;             ///< robust local BA before outliers are removed
     int ba_refine_iterations = 10;     ///< after removal

@@ -1,0 +1,26 @@
+// What one keyframe put into the maps: its static points in its own camera frame and the pose
+// they were inserted at, kept so that a refined pose can re-anchor them.
+#pragma once
+
+#include <mrpt/poses/CPose3D.h>
+
+#include <cstdint>
+#include <vector>
+
+#include "smap/maps/BackProjector.h"
+
+namespace smap::mapping
+{
+struct KeyFrameContribution
+{
+    uint64_t keyframe = 0;  ///< position in keyframe order
+    double timestamp = 0.0;
+    mrpt::poses::CPose3D T_world_cam;             ///< the pose the points were inserted at
+    std::vector<maps::SemanticPoint> points_cam;  ///< camera (optical) frame
+
+    size_t memoryBytes() const
+    {
+        return sizeof(*this) + points_cam.capacity() * sizeof(maps::SemanticPoint);
+    }
+};
+}  // namespace smap::mapping

@@ -1,0 +1,36 @@
+// How keyframes become map content ([map], [points_map], [octomap] sections): which maps are
+// filled, how a keyframe's static pixels are thinned, and when refined keyframe poses make the
+// maps be rebuilt.
+#pragma once
+
+#include <mrpt/config/CLoadableOptions.h>
+
+#include "smap/maps/CSemanticOctoMap.h"
+#include "smap/maps/CSemanticPointsMap.h"
+
+namespace smap::mapping
+{
+struct MapBuilderParameters : public mrpt::config::CLoadableOptions
+{
+    bool points_map = true;  ///< fill the CSemanticPointsMap
+    bool octomap = true;     ///< fill the CSemanticOctoMap
+    /// A keyframe's static pixels, back-projected in its camera frame, are thinned to one point
+    /// per voxel of this edge (m) before insertion and kept as its contribution; 0 keeps all.
+    double contribution_voxel = 0.02;
+    /// After the run, when some keyframe's final (refined) pose differs from the pose it was
+    /// inserted at by more than this translation (m) or rotation (deg), the maps are rebuilt
+    /// from the stored contributions at the final poses.
+    double reanchor_translation = 0.01;
+    double reanchor_rotation_deg = 1.0;
+
+    /// [points_map] and [octomap]: the maps' own options (voxel size, resolution, sensor model,
+    /// and the depth range / stride of back-projection, which the builder applies too).
+    maps::CSemanticPointsMap::TInsertionOptions pointsMap;
+    maps::CSemanticOctoMap::TInsertionOptions octoMap;
+
+    void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
+                            const std::string& section) override;
+    void saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
+                          const std::string& section) const override;
+};
+}  // namespace smap::mapping

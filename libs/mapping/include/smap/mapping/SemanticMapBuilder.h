@@ -1,0 +1,64 @@
+// The map insertion policy of semantic-mapper (DESIGN.md "re-anchoring"): every keyframe's
+// static pixels are back-projected once, in the keyframe's camera frame, thinned to one point
+// per voxel and kept as the keyframe's contribution; they are inserted into the semantic point
+// map and the semantic octomap at the keyframe's pose of the moment. When bundle adjustment has
+// refined keyframe poses, reanchor() compares the final poses with the insertion poses and, if
+// any keyframe moved more than the tolerance, rebuilds both maps from the contributions at the
+// final poses, in keyframe order: the final maps depend only on the final poses.
+#pragma once
+
+#include <functional>
+#include <optional>
+#include <vector>
+
+#include "smap/core/PinholeCamera.h"
+#include "smap/mapping/KeyFrameContribution.h"
+#include "smap/mapping/MapBuilderParameters.h"
+#include "smap/maps/BackProjector.h"
+#include "smap/maps/CSemanticOctoMap.h"
+#include "smap/maps/CSemanticPointsMap.h"
+
+namespace smap::mapping
+{
+class SemanticMapBuilder
+{
+public:
+    explicit SemanticMapBuilder(const MapBuilderParameters& params);
+
+    /// Adds keyframe number `keyframe` (ids increase with every call): back-projects the static
+    /// pixels of `images` (dynamic mask skipped) in the camera frame, thins them, stores them and
+    /// inserts them at T_world_cam. Returns the stored contribution.
+    const KeyFrameContribution& add(uint64_t keyframe, double timestamp,
+                                    const maps::BackProjector::Images& images,
+                                    const core::PinholeCamera& camera,
+                                    const mrpt::poses::CPose3D& T_world_cam);
+
+    struct ReanchorResult
+    {
+        size_t moved = 0;             ///< keyframes beyond the tolerance
+        double maxTranslation = 0.0;  ///< m, over all keyframes
+        double maxRotationDeg = 0.0;
+        bool rebuilt = false;
+    };
+    /// `finalPose` gives each contribution's refined pose (nullopt: keep the insertion pose).
+    ReanchorResult reanchor(
+        const std::function<std::optional<mrpt::poses::CPose3D>(const KeyFrameContribution&)>&
+            finalPose);
+
+    const maps::CSemanticPointsMap& pointsMap() const { return pointsMap_; }
+    const maps::CSemanticOctoMap& octoMap() const { return octoMap_; }
+    const std::vector<KeyFrameContribution>& contributions() const { return contributions_; }
+    /// Bytes held by the stored contributions.
+    size_t contributionBytes() const;
+    const MapBuilderParameters& parameters() const { return params_; }
+
+private:
+    void insert(const KeyFrameContribution& c);
+
+    MapBuilderParameters params_;
+    maps::BackProjector projector_;
+    maps::CSemanticPointsMap pointsMap_;
+    maps::CSemanticOctoMap octoMap_;
+    std::vector<KeyFrameContribution> contributions_;
+};
+}  // namespace smap::mapping

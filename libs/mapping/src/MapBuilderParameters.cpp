@@ -1,0 +1,43 @@
+#include "smap/mapping/MapBuilderParameters.h"
+
+#include <mrpt/config/CConfigFileBase.h>
+#include <mrpt/core/format.h>
+
+#include "smap/core/InputError.h"
+
+namespace smap::mapping
+{
+void MapBuilderParameters::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
+                                              const std::string&)
+{
+    const char* s = "map";
+    points_map = cfg.read_bool(s, "points_map", points_map);
+    octomap = cfg.read_bool(s, "octomap", octomap);
+    contribution_voxel = cfg.read_double(s, "contribution_voxel", contribution_voxel);
+    reanchor_translation = cfg.read_double(s, "reanchor_translation", reanchor_translation);
+    reanchor_rotation_deg = cfg.read_double(s, "reanchor_rotation_deg", reanchor_rotation_deg);
+    if (!(contribution_voxel >= 0.0 && contribution_voxel <= 1.0))
+        throw core::InputError(
+            mrpt::format("[map] contribution_voxel = %g must be in [0, 1] m (0: no thinning)",
+                         contribution_voxel));
+    if (!(reanchor_translation >= 0.0) || !(reanchor_rotation_deg >= 0.0))
+        throw core::InputError(mrpt::format(
+            "[map] reanchor_translation = %g and reanchor_rotation_deg = %g must be >= 0",
+            reanchor_translation, reanchor_rotation_deg));
+    pointsMap.loadFromConfigFile(cfg, "points_map");
+    octoMap.loadFromConfigFile(cfg, "octomap");
+}
+
+void MapBuilderParameters::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
+                                            const std::string&) const
+{
+    const char* s = "map";
+    cfg.write(s, "points_map", points_map);
+    cfg.write(s, "octomap", octomap);
+    cfg.write(s, "contribution_voxel", contribution_voxel);
+    cfg.write(s, "reanchor_translation", reanchor_translation);
+    cfg.write(s, "reanchor_rotation_deg", reanchor_rotation_deg);
+    pointsMap.saveToConfigFile(cfg, "points_map");
+    octoMap.saveToConfigFile(cfg, "octomap");
+}
+}  // namespace smap::mapping

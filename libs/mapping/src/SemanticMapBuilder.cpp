@@ -1,0 +1,127 @@
+#include "smap/mapping/SemanticMapBuilder.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace smap::mapping
+{
+namespace
+{
+constexpr double kRadToDeg = 57.29577951308232;
+
+/// Rotation angle (deg) and translation (m) of the relative pose a^-1 b.
+std::pair<double, double> poseDifference(const mrpt::poses::CPose3D& a,
+                                         const mrpt::poses::CPose3D& b)
+{
+    const mrpt::poses::CPose3D d = b - a;
+    const auto R = d.getRotationMatrix().asEigen();
+    const double c = std::clamp((R.trace() - 1.0) / 2.0, -1.0, 1.0);
+    return {d.translation().norm(), std::acos(c) * kRadToDeg};
+}
+}  // namespace
+
+SemanticMapBuilder::SemanticMapBuilder(const MapBuilderParameters& params)
+    : params_(params), projector_(params.pointsMap.projection)
+{
+    pointsMap_.insertionOptions = params_.pointsMap;
+    octoMap_.insertionOptions = params_.octoMap;
+}
+
+const KeyFrameContribution& SemanticMapBuilder::add(uint64_t keyframe, double timestamp,
+                                                    const maps::BackProjector::Images& images,
+                                                    const core::PinholeCamera& camera,
+                                                    const mrpt::poses::CPose3D& T_world_cam)
+{
+    KeyFrameContribution c;
+    c.keyframe = keyframe;
+    c.timestamp = timestamp;
+    c.T_world_cam = T_world_cam;
+    std::vector<maps::SemanticPoint> cam =
+        projector_.project(images, camera, mrpt::poses::CPose3D());
+    if (params_.contribution_voxel > 0.0)
+    {
+        // One point per voxel of the camera frame: mean position and colour, the class with the
+        // highest summed confidence.
+        maps::CSemanticPointsMap thin;
+        thin.insertionOptions.voxel_size = params_.contribution_voxel;
+        thin.insertPoints(cam);
+        cam = thin.points();
+    }
+    c.points_cam = std::move(cam);
+    c.points_cam.shrink_to_fit();
+    insert(c);
+    contributions_.push_back(std::move(c));
+    return contributions_.back();
+}
+
+void SemanticMapBuilder::insert(const KeyFrameContribution& c)
+{
+    std::vector<maps::SemanticPoint> world;
+    world.reserve(c.points_cam.size());
+    for (const auto& p : c.points_cam)
+    {
+        maps::SemanticPoint w = p;
+        double x = 0, y = 0, z = 0;
+        c.T_world_cam.composePoint(p.position.x(), p.position.y(), p.position.z(), x, y, z);
+        w.position =
+            Eigen::Vector3f(static_cast<float>(x), static_cast<float>(y), static_cast<float>(z));
+        world.push_back(w);
+    }
+    if (params_.points_map)
+        pointsMap_.insertPoints(world);
+    if (params_.octomap)
+    {
+        // The octomap's own depth range applies to its rays.
+        const auto& proj = params_.octoMap.projection;
+        std::vector<maps::SemanticPoint> rays;
+        rays.reserve(world.size());
+        for (size_t i = 0; i < world.size(); ++i)
+        {
+            const float z = c.points_cam[i].position.z();
+            if (z >= proj.min_depth && z <= proj.max_depth)
+                rays.push_back(world[i]);
+        }
+        octoMap_.insertPoints(rays, Eigen::Vector3f(static_cast<float>(c.T_world_cam.x()),
+                                                    static_cast<float>(c.T_world_cam.y()),
+                                                    static_cast<float>(c.T_world_cam.z())));
+    }
+}
+
+SemanticMapBuilder::ReanchorResult SemanticMapBuilder::reanchor(
+    const std::function<std::optional<mrpt::poses::CPose3D>(const KeyFrameContribution&)>&
+        finalPose)
+{
+    ReanchorResult r;
+    std::vector<mrpt::poses::CPose3D> poses;
+    poses.reserve(contributions_.size());
+    for (const auto& c : contributions_)
+    {
+        const auto p = finalPose(c);
+        poses.push_back(p ? *p : c.T_world_cam);
+        const auto [dt, dr] = poseDifference(c.T_world_cam, poses.back());
+        r.maxTranslation = std::max(r.maxTranslation, dt);
+        r.maxRotationDeg = std::max(r.maxRotationDeg, dr);
+        if (dt > params_.reanchor_translation || dr > params_.reanchor_rotation_deg)
+            r.moved++;
+    }
+    if (r.moved == 0)
+        return r;
+    pointsMap_.clear();
+    octoMap_.clear();
+    for (size_t i = 0; i < contributions_.size(); ++i)
+    {
+        contributions_[i].T_world_cam = poses[i];
+        insert(contributions_[i]);
+    }
+    r.rebuilt = true;
+    return r;
+}
+
+size_t SemanticMapBuilder::contributionBytes() const
+{
+    size_t n = 0;
+    for (const auto& c : contributions_)
+        n += c.memoryBytes();
+    return n;
+}
+}  // namespace smap::mapping

@@ -1,0 +1,82 @@
+// The segmentation + mapping stage of semantic-mapper, in its own thread: keyframes arrive
+// through a bounded queue in keyframe order; each is segmented (CNN + CRF), split into dynamic
+// and static pixels by Algorithm 1, and its static pixels go into the maps. Tracking never waits
+// for it unless the queue is full and [pipeline] when_full = wait.
+#pragma once
+
+#include <mrpt/system/COutputLogger.h>
+
+#include <exception>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+#include "smap/core/LabelSet.h"
+#include "smap/mapping/DynamicRegionFinder.h"
+#include "smap/mapping/SemanticMapBuilder.h"
+#include "smap/maps/CObservationSemanticRGBD.h"
+#include "smap/pipeline/BoundedQueue.h"
+#include "smap/pipeline/KeyFrameJob.h"
+#include "smap/segmentation/Segmenter.h"
+
+namespace smap::pipeline
+{
+class KeyFrameWorker : public mrpt::system::COutputLogger
+{
+public:
+    /// `segmenter` may be null (no segmentation: every pixel void, so Algorithm 1 only grows
+    /// regions around the dynamic points). The thread starts at once.
+    KeyFrameWorker(std::unique_ptr<segmentation::Segmenter> segmenter, core::LabelSet labels,
+                   const mapping::DynamicRegionParameters& association,
+                   const mapping::MapBuilderParameters& map, size_t queueCapacity);
+    ~KeyFrameWorker() override;
+    KeyFrameWorker(const KeyFrameWorker&) = delete;
+    KeyFrameWorker& operator=(const KeyFrameWorker&) = delete;
+
+    /// Called on the worker thread after each keyframe reached the maps, in keyframe order.
+    using Observer = std::function<void(const KeyFrameJob&, const maps::CObservationSemanticRGBD&,
+                                        const mapping::DynamicRegions&)>;
+    void setObserver(Observer observer) { observer_ = std::move(observer); }
+
+    /// Queues a keyframe. wait = true blocks while the queue is full; false drops the keyframe
+    /// then. Returns whether it was queued. Rethrows a failure of the worker thread.
+    bool submit(KeyFrameJob job, bool wait);
+    /// Processes what is queued, stops the thread, rethrows a failure of the worker thread.
+    void finish();
+
+    /// The maps, locked while `fn` runs (safe during a run).
+    void withMaps(const std::function<void(mapping::SemanticMapBuilder&)>& fn);
+
+    struct Stats
+    {
+        size_t keyframes = 0;  ///< processed
+        size_t dropped = 0;    ///< queue full, when_full = drop
+        size_t waits = 0;      ///< submissions that found the queue full, when_full = wait
+        size_t queueHighWater = 0;
+        std::vector<double> segmentationMs, associationMs, insertionMs, observerMs;
+        size_t dynamicPixels = 0, staticPixels = 0;
+    };
+    /// Copy of the statistics so far.
+    Stats stats() const;
+    const core::LabelSet& labels() const { return labels_; }
+    std::string segmenterDescription() const;
+
+private:
+    void run();
+    void process(KeyFrameJob& job);
+
+    std::unique_ptr<segmentation::Segmenter> segmenter_;
+    core::LabelSet labels_;
+    mapping::DynamicRegionFinder finder_;
+    std::mutex mapMutex_;
+    mapping::SemanticMapBuilder builder_;
+    Observer observer_;
+    BoundedQueue<KeyFrameJob> queue_;
+    mutable std::mutex statsMutex_;
+    Stats stats_;
+    std::exception_ptr error_;
+    std::thread thread_;
+};
+}  // namespace smap::pipeline

@@ -1,0 +1,39 @@
+// [pipeline] and [output]: how semantic-mapper's stages are connected (queues, threads) and
+// which output files it writes.
+#pragma once
+
+#include <mrpt/config/CLoadableOptions.h>
+
+#include <string>
+
+namespace smap::pipeline
+{
+struct PipelineParameters : public mrpt::config::CLoadableOptions
+{
+    /// Frames read and prepared (features, dynamic filter) ahead of tracking, in their own
+    /// thread; 0 prepares them on the tracking thread.
+    int frame_queue = 4;
+    /// Keyframes waiting for segmentation and mapping (the worker thread).
+    int keyframe_queue = 16;
+    /// When the keyframe queue is full: "wait" (tracking pauses until the worker takes one:
+    /// every keyframe reaches the map, results are deterministic) or "drop" (the keyframe skips
+    /// the map; for live sensors that must never stall).
+    std::string when_full = "wait";
+    /// Threads of OpenCV's parallel framework (cv::setNumThreads), set once before the first
+    /// frame: it overrides [onnx] threads; 0 = leave it as the segmenter set it.
+    int opencv_threads = 1;
+
+    // [output]
+    /// Annotated rawlog: one CObservationSemanticRGBD per keyframe.
+    bool annotated_rawlog = true;
+    /// Map snapshots (by class, by colour, trajectory) and their size.
+    bool snapshots = true;
+    int snapshot_width = 1024;
+    int snapshot_height = 768;
+
+    void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
+                            const std::string& section) override;
+    void saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
+                          const std::string& section) const override;
+};
+}  // namespace smap::pipeline

@@ -1,0 +1,41 @@
+// Every part of semantic-mapper's configuration, each loaded once from the same configuration.
+#pragma once
+
+#include <mrpt/config/CLoadableOptions.h>
+
+#include <vector>
+
+#include "smap/dynamic/DynamicParameters.h"
+#include "smap/features/OrbParameters.h"
+#include "smap/mapping/DynamicRegionFinder.h"
+#include "smap/mapping/MapBuilderParameters.h"
+#include "smap/pipeline/PipelineParameters.h"
+#include "smap/segmentation/SegmentationParameters.h"
+#include "smap/slam/SlamParameters.h"
+
+namespace smap::pipeline
+{
+struct SemanticMapperParameters
+{
+    features::OrbParameters orb;
+    slam::TrackerParameters tracking;
+    slam::LocalMappingParameters localMapping;
+    dynamic::DynamicParameters dynamic;
+    segmentation::SegmentationParameters segmentation;
+    mapping::DynamicRegionParameters association;
+    mapping::MapBuilderParameters map;
+    PipelineParameters pipeline;
+
+    /// The parts, in the order the configuration reference lists them.
+    std::vector<mrpt::config::CLoadableOptions*> parts()
+    {
+        return {&orb,          &tracking,    &localMapping, &dynamic,
+                &segmentation, &association, &map,          &pipeline};
+    }
+    std::vector<const mrpt::config::CLoadableOptions*> parts() const
+    {
+        return {&orb,          &tracking,    &localMapping, &dynamic,
+                &segmentation, &association, &map,          &pipeline};
+    }
+};
+}  // namespace smap::pipeline

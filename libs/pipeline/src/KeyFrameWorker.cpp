@@ -1,0 +1,169 @@
+#include "smap/pipeline/KeyFrameWorker.h"
+
+#include <chrono>
+#include <opencv2/core.hpp>
+
+namespace smap::pipeline
+{
+namespace
+{
+double msSince(std::chrono::steady_clock::time_point t0)
+{
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+}  // namespace
+
+KeyFrameWorker::KeyFrameWorker(std::unique_ptr<segmentation::Segmenter> segmenter,
+                               core::LabelSet labels,
+                               const mapping::DynamicRegionParameters& association,
+                               const mapping::MapBuilderParameters& map, size_t queueCapacity)
+    : COutputLogger("keyframe-worker"),
+      segmenter_(std::move(segmenter)),
+      labels_(std::move(labels)),
+      finder_(association, labels_),
+      builder_(map),
+      queue_(queueCapacity)
+{
+    thread_ = std::thread([this] { run(); });
+}
+
+KeyFrameWorker::~KeyFrameWorker()
+{
+    queue_.close();
+    if (thread_.joinable())
+        thread_.join();
+}
+
+std::string KeyFrameWorker::segmenterDescription() const
+{
+    return segmenter_ ? segmenter_->description() : "none";
+}
+
+bool KeyFrameWorker::submit(KeyFrameJob job, bool wait)
+{
+    {
+        std::lock_guard<std::mutex> lock(statsMutex_);
+        if (error_)
+            std::rethrow_exception(error_);
+    }
+    bool queued = false;
+    bool waited = false;
+    if (wait)
+        queued = queue_.push(std::move(job), &waited);
+    else
+        queued = queue_.tryPush(std::move(job));
+    std::lock_guard<std::mutex> lock(statsMutex_);
+    stats_.waits += waited ? 1 : 0;
+    stats_.dropped += queued ? 0 : 1;
+    return queued;
+}
+
+void KeyFrameWorker::finish()
+{
+    queue_.close();
+    if (thread_.joinable())
+        thread_.join();
+    std::lock_guard<std::mutex> lock(statsMutex_);
+    stats_.queueHighWater = queue_.highWater();
+    if (error_)
+        std::rethrow_exception(error_);
+}
+
+void KeyFrameWorker::withMaps(const std::function<void(mapping::SemanticMapBuilder&)>& fn)
+{
+    std::lock_guard<std::mutex> lock(mapMutex_);
+    fn(builder_);
+}
+
+KeyFrameWorker::Stats KeyFrameWorker::stats() const
+{
+    std::lock_guard<std::mutex> lock(statsMutex_);
+    Stats s = stats_;
+    s.queueHighWater = queue_.highWater();
+    return s;
+}
+
+void KeyFrameWorker::run()
+{
+    while (auto job = queue_.pop())
+    {
+        try
+        {
+            process(*job);
+        }
+        catch (...)
+        {
+            {
+                std::lock_guard<std::mutex> lock(statsMutex_);
+                error_ = std::current_exception();
+            }
+            // Nothing more is processed; tracking learns of it at its next submission.
+            queue_.close();
+            while (queue_.pop())
+            {
+            }
+            return;
+        }
+    }
+}
+
+void KeyFrameWorker::process(KeyFrameJob& job)
+{
+    const core::RgbdFrame& f = job.frame;
+    auto t0 = std::chrono::steady_clock::now();
+    auto obs = maps::CObservationSemanticRGBD::Create();
+    if (segmenter_)
+    {
+        segmentation::SegmentationResult seg = segmenter_->segment(f);
+        obs->labels = seg.labels;
+        obs->confidence = seg.labelConfidence();
+    }
+    else
+    {
+        obs->labels = cv::Mat(f.colour.size(), CV_8UC1, cv::Scalar(255));
+        obs->confidence = cv::Mat(f.colour.size(), CV_32FC1, cv::Scalar(0.0F));
+    }
+    const double segMs = msSince(t0);
+
+    t0 = std::chrono::steady_clock::now();
+    const mapping::DynamicRegions regions = finder_.find(obs->labels, f.depth, job.dynamicPoints);
+    const double assocMs = msSince(t0);
+
+    obs->sensorLabel = "SEMANTIC_RGBD";
+    obs->timestamp = mrpt::Clock::fromDouble(f.timestamp);
+    // No robot pose in an annotated rawlog: the camera's world pose is the sensor pose, so
+    // inserting the rawlog's observations into an empty map rebuilds the map.
+    obs->sensorPose = job.T_world_cam;
+    obs->camera = f.camera;
+    obs->colour = f.colour;
+    obs->depth = f.depth;
+    obs->dynamicMask = regions.dynamicMask;
+
+    t0 = std::chrono::steady_clock::now();
+    {
+        std::lock_guard<std::mutex> lock(mapMutex_);
+        builder_.add(job.keyframe, f.timestamp,
+                     {obs->colour, obs->depth, obs->labels, obs->confidence, obs->dynamicMask},
+                     f.camera, job.T_world_cam);
+    }
+    const double insertMs = msSince(t0);
+
+    t0 = std::chrono::steady_clock::now();
+    if (observer_)
+        observer_(job, *obs, regions);
+    const double observerMs = msSince(t0);
+
+    const auto dynamicPixels = static_cast<size_t>(cv::countNonZero(regions.dynamicMask));
+    std::lock_guard<std::mutex> lock(statsMutex_);
+    stats_.keyframes++;
+    stats_.segmentationMs.push_back(segMs);
+    stats_.associationMs.push_back(assocMs);
+    stats_.insertionMs.push_back(insertMs);
+    stats_.observerMs.push_back(observerMs);
+    stats_.dynamicPixels += dynamicPixels;
+    stats_.staticPixels += regions.dynamicMask.total() - dynamicPixels;
+    MRPT_LOG_DEBUG_FMT("keyframe %llu (%s): %.1f ms segmentation, %zu dynamic pixels",
+                       static_cast<unsigned long long>(job.keyframe), f.name.c_str(), segMs,
+                       dynamicPixels);
+}
+}  // namespace smap::pipeline

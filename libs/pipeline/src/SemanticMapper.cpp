@@ -1,0 +1,107 @@
+#include "smap/pipeline/SemanticMapper.h"
+
+#include <chrono>
+#include <map>
+
+namespace smap::pipeline
+{
+namespace
+{
+double msSince(std::chrono::steady_clock::time_point t0)
+{
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+}  // namespace
+
+SemanticMapper::SemanticMapper(const SemanticMapperParameters& params)
+    : COutputLogger("semantic-mapper"),
+      params_(params),
+      slam_(std::make_unique<slam::RgbdSlam>(params.orb, params.tracking, params.localMapping)),
+      dynamicFilter_(params.dynamic)
+{
+    auto segmenter = segmentation::makeSegmenter(params_.segmentation);
+    worker_ = std::make_unique<KeyFrameWorker>(
+        std::move(segmenter), segmentation::loadLabelSet(params_.segmentation), params_.association,
+        params_.map, static_cast<size_t>(params_.pipeline.keyframe_queue));
+}
+
+SemanticMapper::~SemanticMapper() = default;
+
+void SemanticMapper::setKeyFrameObserver(KeyFrameWorker::Observer observer)
+{
+    worker_->setObserver(std::move(observer));
+}
+
+SemanticMapper::PreparedFrame SemanticMapper::prepare(const core::RgbdFrame& frame)
+{
+    PreparedFrame p;
+    p.rgbd = frame;
+    const auto t0 = std::chrono::steady_clock::now();
+    p.features = slam_->prepare(frame);
+    p.extractionMs = msSince(t0);
+    p.dynamic =
+        dynamicFilter_.process(frame.colour, frame.depth, p.features.features, frame.camera);
+    p.features.setWeights(p.dynamic.weights());
+    if (p.dynamic.egoMotion.valid && p.dynamic.framesBack > 0)
+    {
+        p.features.odometry_T_cam_earlier = p.dynamic.egoMotion.T_cur_prev;
+        p.features.odometryFramesBack = p.dynamic.framesBack;
+    }
+    return p;
+}
+
+SemanticMapper::FrameResult SemanticMapper::track(PreparedFrame frame)
+{
+    FrameResult r;
+    r.dynamicKeypoints = frame.dynamic.numDynamic();
+    r.dynamicMs = frame.dynamic.milliseconds;
+
+    // S of Algorithm 1, kept before the features move into the tracker.
+    std::vector<mapping::DynamicPoint> dynamicPoints;
+    const auto& fs = frame.features.features;
+    for (size_t i = 0; i < frame.dynamic.keypoints.size() && i < fs.size(); ++i)
+        if (frame.dynamic.keypoints[i].dynamic)
+            dynamicPoints.push_back({fs.keypoints[i].pt.x, fs.keypoints[i].pt.y, fs.depth[i]});
+
+    r.tracking = slam_->track(std::move(frame.features));
+    r.tracking.timings.extraction_ms = frame.extractionMs;
+    if (r.tracking.newKeyFrame && slam::hasPose(r.tracking.status))
+    {
+        KeyFrameJob job;
+        job.keyframe = keyframes_;
+        job.frame = std::move(frame.rgbd);
+        job.T_world_cam = slam::toCPose3D(r.tracking.T_world_cam);
+        job.dynamicPoints = std::move(dynamicPoints);
+        const auto t0 = std::chrono::steady_clock::now();
+        const bool queued = worker_->submit(std::move(job), params_.pipeline.when_full == "wait");
+        r.queueWaitMs = msSince(t0);
+        r.keyframeDropped = !queued;
+        keyframes_ += queued ? 1 : 0;
+    }
+    return r;
+}
+
+mapping::SemanticMapBuilder::ReanchorResult SemanticMapper::finish()
+{
+    slam_->finish();
+    worker_->finish();
+    // The final pose of every keyframe: its frame's pose through the refined keyframes.
+    std::map<double, mrpt::poses::CPose3D> finalPoses;
+    for (const auto& p : slam_->trajectory())
+        finalPoses.emplace(p.timestamp, p.T_world_cam);
+    mapping::SemanticMapBuilder::ReanchorResult result;
+    worker_->withMaps(
+        [&](mapping::SemanticMapBuilder& b)
+        {
+            result = b.reanchor(
+                [&](const mapping::KeyFrameContribution& c) -> std::optional<mrpt::poses::CPose3D>
+                {
+                    const auto it = finalPoses.find(c.timestamp);
+                    if (it == finalPoses.end())
+                        return std::nullopt;
+                    return it->second;
+                });
+        });
+    return result;
+}
+}  // namespace smap::pipeline

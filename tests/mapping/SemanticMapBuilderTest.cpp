@@ -1,0 +1,118 @@
+// SemanticMapBuilder: contributions in the camera frame, thinning, and re-anchoring at refined
+// poses against known geometry.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <opencv2/core.hpp>
+
+#include "smap/mapping/SemanticMapBuilder.h"
+
+using namespace smap;
+
+namespace
+{
+core::PinholeCamera camera()
+{
+    core::PinholeCamera c;
+    c.width = 80;
+    c.height = 60;
+    c.fx = c.fy = 80.0;
+    c.cx = 39.5;
+    c.cy = 29.5;
+    return c;
+}
+
+/// A wall 2 m in front, label 9 (chair) on the left half, 15 (person, dynamic) on a square.
+maps::BackProjector::Images wall()
+{
+    maps::BackProjector::Images im;
+    im.colour = cv::Mat(60, 80, CV_8UC3, cv::Scalar(30, 60, 90));
+    im.depth = cv::Mat(60, 80, CV_32FC1, cv::Scalar(2.0f));
+    im.labels = cv::Mat(60, 80, CV_8UC1, cv::Scalar(0));
+    im.labels(cv::Rect(0, 0, 40, 60)).setTo(9);
+    im.confidence = cv::Mat(60, 80, CV_32FC1, cv::Scalar(0.9f));
+    im.dynamicMask = cv::Mat(60, 80, CV_8UC1, cv::Scalar(0));
+    im.dynamicMask(cv::Rect(50, 20, 10, 10)).setTo(255);
+    im.labels(cv::Rect(50, 20, 10, 10)).setTo(15);
+    return im;
+}
+
+double meanZ(const maps::CSemanticPointsMap& m)
+{
+    double z = 0.0;
+    const auto pts = m.points();
+    for (const auto& p : pts)
+        z += p.position.z();
+    return z / static_cast<double>(pts.size());
+}
+}  // namespace
+
+TEST(SemanticMapBuilder, ContributionIsTheStaticPixelsInTheCameraFrameThinned)
+{
+    mapping::MapBuilderParameters p;
+    p.contribution_voxel = 0.0;
+    mapping::SemanticMapBuilder full(p);
+    const mrpt::poses::CPose3D T(1.0, 2.0, 3.0, 0.0, 0.0, 0.0);
+    const auto& c = full.add(0, 10.0, wall(), camera(), T);
+    // 80 x 60 pixels minus the 10 x 10 dynamic square.
+    EXPECT_EQ(c.points_cam.size(), 80u * 60u - 100u);
+    for (const auto& pt : c.points_cam)
+    {
+        EXPECT_NEAR(pt.position.z(), 2.0f, 1e-5f);
+        EXPECT_NE(pt.label, 15) << "dynamic pixels never reach the map";
+    }
+    // In the world, the wall is at z = 3 + 2.
+    EXPECT_NEAR(meanZ(full.pointsMap()), 5.0, 1e-4);
+    EXPECT_FALSE(full.octoMap().isEmpty());
+
+    // Thinned to 2 cm voxels: at 2 m a pixel is 2.5 cm, so about one point per pixel remains,
+    // and at 10 cm a 4 x 4-pixel block becomes one point.
+    p.contribution_voxel = 0.1;
+    mapping::SemanticMapBuilder thin(p);
+    const auto& t = thin.add(0, 10.0, wall(), camera(), T);
+    EXPECT_LT(t.points_cam.size(), c.points_cam.size() / 8);
+    EXPECT_GT(t.points_cam.size(), c.points_cam.size() / 32);
+    EXPECT_GT(thin.contributionBytes(), t.points_cam.size() * sizeof(maps::SemanticPoint));
+}
+
+TEST(SemanticMapBuilder, ReanchorMovesTheMapOnlyBeyondTheTolerance)
+{
+    mapping::MapBuilderParameters p;
+    mapping::SemanticMapBuilder b(p);
+    const mrpt::poses::CPose3D T0(0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+    b.add(0, 1.0, wall(), camera(), T0);
+    b.add(1, 2.0, wall(), camera(), T0);
+    const size_t before = b.pointsMap().size();
+    EXPECT_NEAR(meanZ(b.pointsMap()), 2.0, 1e-3);
+
+    // 5 mm: within the 1 cm tolerance, nothing is rebuilt.
+    auto small = b.reanchor([](const mapping::KeyFrameContribution&)
+                            { return mrpt::poses::CPose3D(0.0, 0.0, 0.005, 0.0, 0.0, 0.0); });
+    EXPECT_EQ(small.moved, 0u);
+    EXPECT_FALSE(small.rebuilt);
+    EXPECT_NEAR(small.maxTranslation, 0.005, 1e-9);
+    EXPECT_NEAR(meanZ(b.pointsMap()), 2.0, 1e-3);
+
+    // Keyframe 1 refined 0.5 m further along z: rebuilt, half the wall moves with it.
+    auto big = b.reanchor(
+        [](const mapping::KeyFrameContribution& c) -> std::optional<mrpt::poses::CPose3D>
+        {
+            if (c.keyframe == 1)
+                return mrpt::poses::CPose3D(0.0, 0.0, 0.5, 0.0, 0.0, 0.0);
+            return std::nullopt;
+        });
+    EXPECT_EQ(big.moved, 1u);
+    EXPECT_TRUE(big.rebuilt);
+    EXPECT_NEAR(big.maxTranslation, 0.5, 1e-9);
+    EXPECT_EQ(b.pointsMap().size(), 2 * before) << "two walls now, 0.5 m apart";
+    EXPECT_NEAR(meanZ(b.pointsMap()), 2.25, 1e-3);
+    EXPECT_EQ(b.contributions()[1].T_world_cam.z(), 0.5);
+
+    // A 5 degree rotation is beyond the 1 degree tolerance.
+    auto turned = b.reanchor(
+        [](const mapping::KeyFrameContribution& c) {
+            return mrpt::poses::CPose3D(0.0, 0.0, c.T_world_cam.z(), 5.0 * M_PI / 180.0, 0.0, 0.0);
+        });
+    EXPECT_EQ(turned.moved, 2u);
+    EXPECT_NEAR(turned.maxRotationDeg, 5.0, 1e-6);
+}
