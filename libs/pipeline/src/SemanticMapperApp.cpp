@@ -27,6 +27,7 @@
 #include "smap/pipeline/AppConfiguration.h"
 #include "smap/pipeline/BoundedQueue.h"
 #include "smap/pipeline/CommandLine.h"
+#include "smap/pipeline/FrameFeeder.h"
 #include "smap/pipeline/FrameSelection.h"
 #include "smap/pipeline/FrameSummary.h"
 #include "smap/pipeline/InterruptWatcher.h"
@@ -291,60 +292,15 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
                 scorer->add(job.frame.name, obs);
         });
 
-    // Front end (read, decode, features, dynamic filter) in its own thread, feeding tracking.
-    const bool frontThread = params.pipeline.frame_queue > 0;
-    BoundedQueue<std::pair<FrameStats, SemanticMapper::PreparedFrame>> prepared(
-        static_cast<size_t>(std::max(1, params.pipeline.frame_queue)));
-    std::exception_ptr frontError;
-    std::vector<double> readMs;
-    size_t frameIndex = 0;
-    // Reads and prepares the next frame; false at the end of the input.
-    auto prepareNext = [&](std::pair<FrameStats, SemanticMapper::PreparedFrame>& item) -> bool
-    {
-        const auto t0 = std::chrono::steady_clock::now();
-        auto frame = source->next();
-        if (!frame)
-            return false;
-        frame->validate();
-        readMs.push_back(
-            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
-                .count());
-        item.first = computeFrameStats(*frame);
-        item.second = mapper.prepare(*frame);
-        if (debugFrames.contains(frameIndex))
-            writeDynamicDebug(outDir, frameIndex, item.second);
-        frameIndex++;
-        return true;
-    };
-    std::thread front;
-    if (frontThread)
-    {
-        front = std::thread(
-            [&]
-            {
-                try
-                {
-                    std::pair<FrameStats, SemanticMapper::PreparedFrame> item;
-                    while (!interrupt.interrupted() && prepareNext(item))
-                        if (!prepared.push(std::move(item)))
-                            break;
-                }
-                catch (...)
-                {
-                    frontError = std::current_exception();
-                }
-                prepared.close();
-            });
-    }
-    auto nextPrepared = [&]() -> std::optional<std::pair<FrameStats, SemanticMapper::PreparedFrame>>
-    {
-        if (frontThread)
-            return prepared.pop();
-        std::pair<FrameStats, SemanticMapper::PreparedFrame> item;
-        if (interrupt.interrupted() || !prepareNext(item))
-            return std::nullopt;
-        return item;
-    };
+    // Front end (read and decode; features and dynamic filter) in two threads, feeding tracking.
+    FrameFeeder feeder(
+        *source, mapper, static_cast<size_t>(params.pipeline.frame_queue),
+        [&] { return interrupt.interrupted(); },
+        [&](const FrameFeeder::Item& item)
+        {
+            if (debugFrames.contains(item.index))
+                writeDynamicDebug(outDir, item.index, item.frame);
+        });
 
     std::vector<FrameRow> rows;
     ProgressReporter progress(source->sizeHint(), progressStream, *this);
@@ -354,16 +310,16 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
     std::exception_ptr trackError;
     try
     {
-        while (auto item = nextPrepared())
+        while (auto item = feeder.next())
         {
-            const double stamp = item->second.rgbd.timestamp;
+            const double stamp = item->frame.rgbd.timestamp;
             if (rows.empty())
             {
                 firstStamp = stamp;
-                camera = item->second.rgbd.camera;
+                camera = item->frame.rgbd.camera;
             }
             lastStamp = stamp;
-            FrameRow row{item->first, mapper.track(std::move(item->second))};
+            FrameRow row{item->stats, mapper.track(std::move(item->frame))};
             const auto status = row.result.tracking.status;
             tracked += slam::hasPose(status) ? 1 : 0;
             lost += status == slam::TrackingStatus::Lost ? 1 : 0;
@@ -379,14 +335,10 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
     {
         trackError = std::current_exception();
     }
-    prepared.close();
-    if (front.joinable())
-        front.join();
+    feeder.close();
     progress.finish();
     if (trackError)
         std::rethrow_exception(trackError);
-    if (frontError)
-        std::rethrow_exception(frontError);
     const bool interrupted = interrupt.interrupted();
     if (interrupted)
         MRPT_LOG_WARN_FMT(
@@ -519,12 +471,13 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
     metrics.set("map", mapj);
     auto timings = core::JsonValue::object();
     timings.set("setup_s", setupMs / 1000.0)
-        .set("read_decode", timing(readMs))
+        .set("read_decode", timing(feeder.readMilliseconds()))
         .set("feature_extraction", timing(extractionMs))
         .set("dynamic_filter", timing(dynamicMs))
         .set("tracking", timing(trackingMs))
         .set("keyframe_queue_wait", timing(waitMs))
         .set("local_mapping_total_s", ms.totalSeconds)
+        .set("local_ba_s", ms.baSeconds)
         .set("segmentation", timing(ws.segmentationMs))
         .set("association", timing(ws.associationMs))
         .set("map_insertion", timing(ws.insertionMs))
@@ -537,8 +490,8 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
         .set("peak_memory_mib", peakMemoryMiB());
     metrics.set("timings", timings);
     metrics.set("threads",
-                mrpt::format("front end %s, tracking, local mapping %s, keyframe worker",
-                             frontThread ? "(own thread)" : "(on tracking)",
+                mrpt::format("reading, front end %s, tracking, local mapping %s, keyframe worker",
+                             params.pipeline.frame_queue > 0 ? "(own threads)" : "(on tracking)",
                              params.localMapping.threaded ? "(own thread)" : "(on tracking)"));
     if (!groundTruth.empty())
     {

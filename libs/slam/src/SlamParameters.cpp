@@ -33,6 +33,7 @@ void TrackerParameters::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
     min_inliers_after_relocalisation =
         cfg.read_int(s, "min_inliers_after_relocalisation", min_inliers_after_relocalisation);
     keyframe_max_frames = cfg.read_int(s, "keyframe_max_frames", keyframe_max_frames);
+    keyframe_min_frames = cfg.read_int(s, "keyframe_min_frames", keyframe_min_frames);
     keyframe_ref_ratio = cfg.read_double(s, "keyframe_ref_ratio", keyframe_ref_ratio);
     revisit_radius = cfg.read_double(s, "revisit_radius", revisit_radius);
     relocalisation_candidates =
@@ -52,6 +53,9 @@ void TrackerParameters::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
     requirePositive(init_min_points, s, "init_min_points");
     requirePositive(min_inliers, s, "min_inliers");
     requirePositive(keyframe_max_frames, s, "keyframe_max_frames");
+    if (keyframe_min_frames < 0)
+        throw core::InputError(
+            mrpt::format("[tracking] keyframe_min_frames = %d must be >= 0", keyframe_min_frames));
     if (!(keyframe_ref_ratio > 0.0 && keyframe_ref_ratio <= 1.0))
         throw core::InputError(mrpt::format("[tracking] keyframe_ref_ratio = %g must be in (0, 1]",
                                             keyframe_ref_ratio));
@@ -82,6 +86,7 @@ void TrackerParameters::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
     cfg.write(s, "min_inliers", min_inliers);
     cfg.write(s, "min_inliers_after_relocalisation", min_inliers_after_relocalisation);
     cfg.write(s, "keyframe_max_frames", keyframe_max_frames);
+    cfg.write(s, "keyframe_min_frames", keyframe_min_frames);
     cfg.write(s, "keyframe_ref_ratio", keyframe_ref_ratio);
     cfg.write(s, "revisit_radius", revisit_radius);
     cfg.write(s, "relocalisation_candidates", relocalisation_candidates);

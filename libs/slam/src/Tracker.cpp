@@ -455,7 +455,8 @@ bool Tracker::needNewKeyFrame(const Frame& frame) const
     const bool needClose = trackedClose < 100 && untrackedClose > 70;
     const double refRatio = nKfs < 2 ? 0.4 : params_.keyframe_ref_ratio;
     const bool c1a = frame.id >= lastKeyFrameFrameId_ + maxFrames;
-    const bool c1b = idle;
+    const bool c1b = idle && frame.id >= lastKeyFrameFrameId_ +
+                                             static_cast<uint64_t>(params_.keyframe_min_frames);
     const bool c1c = inliers < 0.25 * refMatches || needClose;
     const bool c2 = (inliers < refRatio * refMatches || needClose) && inliers > 15;
     if (!((c1a || c1b || c1c) && c2))

@@ -12,7 +12,7 @@ struct PipelineParameters : public mrpt::config::CLoadableOptions
 {
     /// Frames read and prepared (features, dynamic filter) ahead of tracking, in their own
     /// thread; 0 prepares them on the tracking thread.
-    int frame_queue = 4;
+    int frame_queue = 16;
     /// Keyframes waiting for segmentation and mapping (the worker thread).
     int keyframe_queue = 16;
     /// When the keyframe queue is full: "wait" (tracking pauses until the worker takes one:
@@ -21,7 +21,7 @@ struct PipelineParameters : public mrpt::config::CLoadableOptions
     std::string when_full = "wait";
     /// Threads of OpenCV's parallel framework (cv::setNumThreads), set once before the first
     /// frame: it overrides [onnx] threads; 0 = leave it as the segmenter set it.
-    int opencv_threads = 1;
+    int opencv_threads = 2;
 
     // [output]
     /// Annotated rawlog: one CObservationSemanticRGBD per keyframe.

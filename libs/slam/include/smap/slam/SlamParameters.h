@@ -22,7 +22,11 @@ struct TrackerParameters : public mrpt::config::CLoadableOptions
     int min_matches_motion = 20;       ///< motion-model matches before optimisation
     int min_inliers = 30;              ///< inliers that keep tracking "ok"
     int min_inliers_after_relocalisation = 50;
-    int keyframe_max_frames = 30;      ///< a keyframe at least this often (frames)
+    int keyframe_max_frames = 30;  ///< a keyframe at least this often (frames)
+    /// While tracking is strong, no new keyframe within this many frames of the last one (the
+    /// deterministic stand-in for ORB-SLAM's "local mapping is busy"; 0: as soon as needed).
+    /// keyframe_max_frames still forces one, and weak tracking still makes one at once.
+    int keyframe_min_frames = 15;
     double keyframe_ref_ratio = 0.75;  ///< tracked / reference-keyframe points that asks for one
     /// Keyframes within this distance (m) of the camera, looking the same way, join the local
     /// map even without shared points (revisits); 0 disables.
@@ -51,9 +55,9 @@ struct LocalMappingParameters : public mrpt::config::CLoadableOptions
     /// Run local mapping in its own thread (tracking never waits for it). false: every
     /// keyframe is processed before the next frame is tracked, results are deterministic.
     bool threaded = false;
-    int ba_max_keyframes = 20;         ///< the keyframe and its strongest covisible ones move
-    int ba_iterations = 5;             ///< robust local BA before outliers are removed
-    int ba_refine_iterations = 10;     ///< after removal
+    int ba_max_keyframes = 14;         ///< the keyframe and its strongest covisible ones move
+    int ba_iterations = 3;             ///< robust local BA before outliers are removed
+    int ba_refine_iterations = 5;      ///< after removal
     int covisibility_min_weight = 15;  ///< shared points that make a covisibility edge
     int fuse_neighbours = 10;          ///< covisible keyframes searched for duplicate points
     double keyframe_redundancy = 0.9;  ///< cull a keyframe whose points are this redundant
