@@ -37,7 +37,7 @@ FrameFeeder::FrameFeeder(io::FrameSource& source, SemanticMapper& mapper, size_t
             try
             {
                 while (auto r = raw_.pop())
-                    if (!ready_.push(prepare(std::move(*r))))
+                    if (!ready_.push(prepare(*r)))
                         break;
             }
             catch (...)
@@ -91,7 +91,7 @@ std::optional<FrameFeeder::Raw> FrameFeeder::read()
     return r;
 }
 
-FrameFeeder::Item FrameFeeder::prepare(Raw raw)
+FrameFeeder::Item FrameFeeder::prepare(const Raw& raw)
 {
     Item item;
     item.index = raw.index;
@@ -108,7 +108,7 @@ std::optional<FrameFeeder::Item> FrameFeeder::next()
     if (threaded_)
         item = ready_.pop();
     else if (auto r = read())
-        item = prepare(std::move(*r));
+        item = prepare(*r);
     if (!item)
     {
         close();

@@ -53,7 +53,7 @@ private:
         core::RgbdFrame frame;
     };
     std::optional<Raw> read();
-    Item prepare(Raw raw);
+    Item prepare(const Raw& raw);
     void fail();
 
     io::FrameSource& source_;
