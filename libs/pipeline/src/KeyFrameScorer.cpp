@@ -33,19 +33,24 @@ cv::Mat readTruth(const fs::path& path, const cv::Size& size)
 }  // namespace
 
 KeyFrameScorer::KeyFrameScorer(std::string gtDirectory, const core::LabelSet& labels,
-                               bool scoreLabels)
+                               bool scoreLabels, int voidLabel)
     : dir_(std::move(gtDirectory)),
       scoreLabels_(scoreLabels && fs::is_directory(fs::path(dir_) / "labels")),
       dynamic_({{1, "dynamic"}})
 {
     if (scoreLabels_)
-        segmentation_.emplace(scoredClasses(labels));
+    {
+        eval::SegmentationScoreOptions o;
+        o.voidLabel = voidLabel;
+        segmentation_.emplace(scoredClasses(labels), o);
+    }
 }
 
 std::string KeyFrameScorer::findFor(const std::string& input)
 {
     const fs::path p(input);
-    const fs::path candidates[] = {fs::is_directory(p) ? p / "gt" : fs::path(),
+    const bool folder = fs::is_directory(p);
+    const fs::path candidates[] = {folder ? p : fs::path(), folder ? p / "gt" : fs::path(),
                                    p.parent_path() / (p.stem().string() + "_gt")};
     for (const auto& c : candidates)
         if (!c.empty() && (fs::is_directory(c / "labels") || fs::is_directory(c / "dynamic")))

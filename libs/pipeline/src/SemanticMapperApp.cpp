@@ -142,7 +142,7 @@ std::string SemanticMapperApp::configurationReference()
 std::string SemanticMapperApp::usage()
 {
     return "Usage: semantic-mapper [INPUT] [--config FILE]... [--out DIR] [--gt FILE]\n"
-           "                       [--gt-labels DIR] [--set section.key=value]...\n"
+           "                       [--gt-labels DIR] [--gt-void ID|none] [--set section.key=value]...\n"
            "\n"
            "  INPUT        an MRPT .rawlog (plain or gzip) or a TUM RGB-D folder;\n"
            "               default: the embedded sample " +
@@ -154,10 +154,10 @@ std::string SemanticMapperApp::usage()
            "  --gt F       ground-truth trajectory (TUM format) for ATE/RPE in metrics.json;\n"
            "               default: the one the input ships (groundtruth.txt, "
            "<rawlog>_groundtruth.txt)\n"
-           "  --gt-labels D  ground-truth labels/ and dynamic/ images per frame (smap-synth "
-           "layout)\n"
-           "               for Table III scores; default: <rawlog>_gt/ or <folder>/gt/ when "
-           "present\n"
+           "  --gt-labels D  ground-truth labels/ and dynamic/ images per frame (smap-synth\n"
+           "               layout) for Table III scores; default: <rawlog>_gt/, <folder>/gt/ or\n"
+           "               the folder's own labels/ and dynamic/ when present\n"
+           "  --gt-void ID|none  ground-truth label left out of the segmentation scores (255)\n"
            "  --set S.K=V  override one configuration key, e.g. --set input.max_frames=100\n"
            "  --dynamic-debug FRAMES  for these frames ('all' or e.g. '0,50-60') write\n"
            "               DIR/dynamic/NNNNNN.png and .csv (the dynamic filter's evidence)\n"
@@ -183,6 +183,7 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
         .option("set")
         .option("gt")
         .option("gt-labels")
+        .option("gt-void")
         .option("dynamic-debug")
         .flag("print-config")
         .flag("help")
@@ -241,6 +242,11 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
     std::string gtLabels = cl.value("gt-labels").value_or("");
     if (!gtLabels.empty() && !fs::is_directory(gtLabels))
         throw core::InputError("--gt-labels '" + gtLabels + "' is not a folder");
+    int gtVoid = 255;
+    if (const auto v = cl.value("gt-void"))
+        gtVoid = *v == "none" ? -1 : static_cast<int>(cl.integer("gt-void", 255));
+    if (gtVoid < -1 || gtVoid > 255)
+        throw core::InputError("--gt-void must be a label id in [0, 255] or 'none'");
 
     auto source = io::openFrameSource(input, sourceParams);
     source->setMinLoggingLevel(getMinLoggingLevel());
@@ -281,7 +287,7 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
     std::unique_ptr<KeyFrameScorer> scorer;
     if (!gtLabels.empty())
         scorer = std::make_unique<KeyFrameScorer>(gtLabels, mapper.worker().labels(),
-                                                  seg.backend != "none");
+                                                  seg.backend != "none", gtVoid);
     mapper.setKeyFrameObserver(
         [&](const KeyFrameJob& job, const maps::CObservationSemanticRGBD& obs,
             const mapping::DynamicRegions&)

@@ -19,7 +19,10 @@ class KeyFrameScorer
 {
 public:
     /// `gtDirectory` holds labels/ and/or dynamic/. `scoreLabels`: whether the run segments.
-    KeyFrameScorer(std::string gtDirectory, const core::LabelSet& labels, bool scoreLabels);
+    /// `voidLabel`: ground-truth label left out of the segmentation scores (-1: none is; e.g.
+    /// composites whose labels are 255 "not person" away from the people).
+    KeyFrameScorer(std::string gtDirectory, const core::LabelSet& labels, bool scoreLabels,
+                   int voidLabel = 255);
 
     /// Scores one keyframe whose source name is `frameName`; frames without ground truth are
     /// counted as missing. Thread-safe.
@@ -30,8 +33,9 @@ public:
     core::JsonValue toJson() const;
     std::string toText() const;
 
-    /// The ground-truth folder of an input, when it has one: "<rawlog without extension>_gt"
-    /// beside a rawlog, or "<folder>/gt" in a TUM-style folder; empty when none exists.
+    /// The ground-truth folder of an input, when it has one: a TUM-style folder that holds
+    /// labels/ or dynamic/ itself (smap-synth's sequences), "<folder>/gt", or
+    /// "<rawlog without extension>_gt" beside a rawlog; empty when none exists.
     static std::string findFor(const std::string& input);
 
 private:
