@@ -5,6 +5,7 @@
 #include <mrpt/io/CMemoryStream.h>
 #include <mrpt/maps/CMultiMetricMap.h>
 #include <mrpt/serialization/CArchive.h>
+#include <octomap/OcTree.h>
 
 #include <cmath>
 #include <cstring>
@@ -144,6 +145,18 @@ TEST(CSemanticOctoMap, FilesSerializationAndMultiMetricMap)
     std::string header;
     std::getline(bt, header);
     EXPECT_NE(header.find("Octomap OcTree binary file"), std::string::npos) << header;
+    // The .bt holds the occupancy: every occupied voxel of the map is occupied in it.
+    {
+        octomap::OcTree tree(0.1);
+        ASSERT_TRUE(tree.readBinary(dir / "map.bt"));
+        EXPECT_DOUBLE_EQ(tree.getResolution(), map.insertionOptions.resolution);
+        for (const auto& v : before)
+        {
+            const octomap::OcTreeNode* n = tree.search(v.centre.x(), v.centre.y(), v.centre.z());
+            ASSERT_NE(n, nullptr);
+            EXPECT_TRUE(tree.isNodeOccupied(n));
+        }
+    }
     CSemanticOctoMap loaded;
     loaded.loadOt(dir / "map.ot");
     const auto ot = loaded.occupiedVoxels();

@@ -402,12 +402,27 @@ void CSemanticOctoMap::saveBt(const std::string& path) const
 {
     auto copy = impl_->tree ? cloneTree(*impl_->tree)
                             : std::make_unique<octomap::ColorOcTree>(insertionOptions.resolution);
-    core::writeFileAtomically(path,
-                              [&](const std::string& tmp)
-                              {
-                                  if (!copy->writeBinary(tmp))
-                                      throw std::runtime_error("cannot write " + path);
-                              });
+    // What OcTree::writeBinary writes (maximum likelihood, pruned), without its progress
+    // message on stderr.
+    copy->toMaxLikelihood();
+    copy->prune();
+    core::writeFileAtomically(
+        path,
+        [&](const std::string& tmp)
+        {
+            std::ofstream f(tmp, std::ios::binary);
+            f << "# Octomap OcTree binary file\n"
+              << "# (feel free to add / change comments, but leave the first line as it is!)\n#\n"
+              << "id " << copy->getTreeType() << "\n"
+              << "size " << copy->size() << "\n"
+              << "res " << copy->getResolution() << "\n"
+              << "data\n";
+            if (copy->getRoot())
+                copy->writeBinaryNode(f, copy->getRoot());
+            f.flush();
+            if (!f)
+                throw std::runtime_error("cannot write " + path);
+        });
 }
 
 void CSemanticOctoMap::loadOt(const std::string& path)

@@ -509,10 +509,14 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
             const eval::AteOptions ao;
             const auto ate = eval::computeAte(gt, trajectory, ao);
             ev.set("ate", eval::ateToJson(ate, ao));
-            eval::saveAtePlot((dir / "snapshots" / "ate.png").string(), ate);
-            files.emplace_back("snapshots/ate.png");
             eval::RpeOptions ro;
             ev.set("rpe_1s", eval::rpeToJson(eval::computeRpe(gt, trajectory, ro), ro));
+            if (params.pipeline.snapshots)
+            {
+                fs::create_directories(dir / "snapshots");
+                eval::saveAtePlot((dir / "snapshots" / "ate.png").string(), ate);
+                files.emplace_back("snapshots/ate.png");
+            }
             MRPT_LOG_INFO_FMT("ATE RMSE %.4f m over %zu poses", ate.translation.rmse, ate.pairs);
         }
         catch (const std::exception& e)
