@@ -341,7 +341,10 @@ TEST(SemanticMapperApp, DefaultIniDocumentsEveryConfigurationKey)
                 continue;
             std::string key = line.substr(0, eq);
             key.erase(key.find_last_not_of(" \t") + 1);
-            out.insert(section + "." + key);
+            std::string full = section;
+            full += ".";
+            full += key;
+            out.insert(full);
         }
         return out;
     };

@@ -142,7 +142,8 @@ std::string SemanticMapperApp::configurationReference()
 std::string SemanticMapperApp::usage()
 {
     return "Usage: semantic-mapper [INPUT] [--config FILE]... [--out DIR] [--gt FILE]\n"
-           "                       [--gt-labels DIR] [--gt-void ID|none] [--set section.key=value]...\n"
+           "                       [--gt-labels DIR] [--gt-void ID|none] [--set "
+           "section.key=value]...\n"
            "\n"
            "  INPUT        an MRPT .rawlog (plain or gzip) or a TUM RGB-D folder;\n"
            "               default: the embedded sample " +

@@ -1,0 +1,138 @@
+// KeyFrameWorker: keyframes reach the maps in order; a full queue waits or drops as configured;
+// a failing segmenter surfaces on the tracking side.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <opencv2/core.hpp>
+#include <stdexcept>
+#include <thread>
+
+#include "smap/core/InputError.h"
+#include "smap/pipeline/KeyFrameWorker.h"
+
+using namespace smap;
+
+namespace
+{
+/// Labels everything `label` after `delay`; throws on the frame named "bad".
+class SlowSegmenter : public segmentation::Segmenter
+{
+public:
+    SlowSegmenter(std::chrono::milliseconds delay, int label)
+        : Segmenter("slow", core::LabelSet::pascalVoc()), delay_(delay), label_(label)
+    {
+    }
+    segmentation::SegmentationResult segmentNative(const core::RgbdFrame& frame) override
+    {
+        if (frame.name == "bad")
+            throw core::InputError("no label image for frame 'bad'");
+        std::this_thread::sleep_for(delay_);
+        const int n = static_cast<int>(labels().size());
+        cv::Mat p(n, frame.colour.cols * frame.colour.rows, CV_32FC1, cv::Scalar(0.0f));
+        p.row(label_).setTo(1.0f);
+        return segmentation::SegmentationResult::fromProbabilities(p, frame.colour.cols,
+                                                                   frame.colour.rows);
+    }
+    std::string description() const override { return "slow test segmenter"; }
+
+private:
+    std::chrono::milliseconds delay_;
+    int label_;
+};
+
+pipeline::KeyFrameJob job(uint64_t k, double z, const std::string& name = "f")
+{
+    pipeline::KeyFrameJob j;
+    j.keyframe = k;
+    j.frame.camera.width = 32;
+    j.frame.camera.height = 24;
+    j.frame.camera.fx = j.frame.camera.fy = 30.0;
+    j.frame.camera.cx = 15.5;
+    j.frame.camera.cy = 11.5;
+    j.frame.colour = cv::Mat(24, 32, CV_8UC3, cv::Scalar(50, 100, 150));
+    j.frame.depth = cv::Mat(24, 32, CV_32FC1, cv::Scalar(2.0f));
+    j.frame.timestamp = static_cast<double>(k);
+    j.frame.name = name;
+    j.T_world_cam = mrpt::poses::CPose3D(0.0, 0.0, z, 0.0, 0.0, 0.0);
+    return j;
+}
+
+std::unique_ptr<pipeline::KeyFrameWorker> worker(std::chrono::milliseconds delay, size_t queue)
+{
+    mapping::MapBuilderParameters map;
+    map.octomap = false;
+    return std::make_unique<pipeline::KeyFrameWorker>(
+        std::make_unique<SlowSegmenter>(delay, 9), core::LabelSet::pascalVoc(),
+        mapping::DynamicRegionParameters(), map, queue);
+}
+}  // namespace
+
+TEST(KeyFrameWorker, WaitingQueueMapsEveryKeyframeInOrder)
+{
+    auto w = worker(std::chrono::milliseconds(30), 1);
+    std::vector<uint64_t> seen;
+    w->setObserver(
+        [&](const pipeline::KeyFrameJob& j, const maps::CObservationSemanticRGBD& obs,
+            const mapping::DynamicRegions&)
+        {
+            seen.push_back(j.keyframe);
+            EXPECT_EQ(obs.labels.at<uint8_t>(0, 0), 9);
+            EXPECT_EQ(obs.sensorPose.z(), static_cast<double>(j.keyframe));
+        });
+    for (uint64_t k = 0; k < 5; ++k)
+        EXPECT_TRUE(w->submit(job(k, static_cast<double>(k)), true));
+    w->finish();
+    EXPECT_EQ(seen, (std::vector<uint64_t>{0, 1, 2, 3, 4}));
+    const auto s = w->stats();
+    EXPECT_EQ(s.keyframes, 5u);
+    EXPECT_EQ(s.dropped, 0u);
+    EXPECT_GE(s.waits, 1u) << "a 1-keyframe queue behind a 30 ms segmenter fills up";
+    EXPECT_EQ(s.segmentationMs.size(), 5u);
+    w->withMaps(
+        [](mapping::SemanticMapBuilder& b)
+        {
+            ASSERT_EQ(b.contributions().size(), 5u);
+            for (size_t i = 0; i < 5; ++i)
+                EXPECT_EQ(b.contributions()[i].keyframe, i);
+            // Five walls, 1 m apart along z, all labelled chair.
+            for (const auto& p : b.pointsMap().points())
+                EXPECT_EQ(p.label, 9);
+        });
+}
+
+TEST(KeyFrameWorker, DroppingQueueNeverBlocksTracking)
+{
+    // Six keyframes arrive while the first is segmented for 300 ms: one runs, one waits in the
+    // queue, the rest are dropped rather than stalling tracking.
+    auto w = worker(std::chrono::milliseconds(300), 1);
+    size_t queued = 0;
+    for (uint64_t k = 0; k < 6; ++k)
+        queued += w->submit(job(k, 0.0), false) ? 1 : 0;
+    w->finish();
+    const auto s = w->stats();
+    EXPECT_EQ(s.keyframes, queued);
+    EXPECT_EQ(s.dropped, 6u - queued);
+    EXPECT_GE(s.dropped, 3u);
+    EXPECT_EQ(s.waits, 0u);
+}
+
+TEST(KeyFrameWorker, SegmenterFailureReachesTheCaller)
+{
+    auto w = worker(std::chrono::milliseconds(0), 4);
+    EXPECT_TRUE(w->submit(job(0, 0.0, "bad"), true));
+    // The failure is reported at the latest by finish(), with its message.
+    try
+    {
+        for (uint64_t k = 1; k < 50; ++k)
+        {
+            w->submit(job(k, 0.0), true);
+            std::this_thread::sleep_for(std::chrono::milliseconds(2));
+        }
+        w->finish();
+        FAIL() << "the segmenter's error was swallowed";
+    }
+    catch (const core::InputError& e)
+    {
+        EXPECT_NE(std::string(e.what()).find("'bad'"), std::string::npos) << e.what();
+    }
+}
