@@ -8,6 +8,7 @@
 # with composited people (real frames, real person cut-outs), all generated into the cache
 # ($SMAP_EVAL_CACHE, default /tmp/smap-eval-cache) when missing. About 20 minutes on 2 cores.
 # Usage: bench/results.sh [BUILD_DIR]   (writes $SMAP_RESULTS_OUT, default docs/results.md)
+#        SMAP_RESULTS_REPORT_ONLY=1 bench/results.sh   rewrites the page from the last runs' files
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 build="${1:-$root/build}"
@@ -23,7 +24,11 @@ model="$shared/models/espnetv2-voc/espnetv2_s2.0_voc_320x240.onnx"
 [ -f "$model" ] || { echo "results.sh: the ESPNetv2 model is missing: $model" >&2; exit 2; }
 
 list="$cache/results-runs.txt"
+speed="$cache/results-speed.txt"
+commit_file="$cache/results-commit.txt"
+if [ "${SMAP_RESULTS_REPORT_ONLY:-0}" != 1 ]; then
 : >"$list"
+(cd "$root" && git rev-parse --short HEAD) >"$commit_file"
 # one SEQUENCE MODE INPUT CAMERA_CONFIG [args...]: runs semantic-mapper, records its metrics.json
 one() {
     local seq="$1" mode="$2" input="$3" camera="$4"
@@ -64,7 +69,6 @@ if [ -d "$seven" ]; then
 fi
 
 echo "End-to-end speed on 7-Scenes ($speed_runs runs):" >&2
-speed="$cache/results-speed.txt"
 : >"$speed"
 if [ -d "$seven" ]; then
     for r in $(seq 1 "$speed_runs"); do
@@ -76,8 +80,9 @@ if [ -d "$seven" ]; then
         echo "  run $r: $(grep -o '"frames_per_second": [0-9.]*' "$out/metrics.json" | head -1), peak RSS $rss kB" >&2
     done
 fi
+fi
 
-/usr/bin/python3 - "$list" "$speed" "$out_md" "$(cd "$root" && git rev-parse --short HEAD)" <<'PY'
+/usr/bin/python3 - "$list" "$speed" "$out_md" "$(cat "$commit_file")" <<'PY'
 import json, sys, statistics, datetime, os
 runs_file, speed_file, out_md, commit = sys.argv[1:5]
 runs = {}
@@ -105,14 +110,16 @@ L.append("## Table II: absolute trajectory error")
 L.append("")
 L.append("ATE RMSE (m) after SE(3) alignment, every frame; improvement = (off - mode) / off.")
 L.append("")
-L.append("| sequence | frames | off | paper | best | paper vs off | best vs off | keyframes (best) |")
-L.append("|---|---|---|---|---|---|---|---|")
+L.append("| sequence | frames | off | paper | best | paper vs off | best vs off | frames with a pose (off / paper / best) | keyframes (best) |")
+L.append("|---|---|---|---|---|---|---|---|---|")
 for seq, modes in runs.items():
     off, paper, best = (ate(modes[k]) if k in modes else float("nan") for k in ("off", "paper", "best"))
     imp = lambda x: "%+.0f%%" % (100.0 * (off - x) / off) if off == off and off > 0 else "-"
     b = modes.get("best", {})
-    L.append("| %s | %d | %.4f | %.4f | %.4f | %s | %s | %d |" % (
-        seq, b.get("frames", 0), off, paper, best, imp(paper), imp(best),
+    posed = " / ".join(str(modes[k]["tracking"]["frames_with_pose"]) if k in modes else "-"
+                       for k in ("off", "paper", "best"))
+    L.append("| %s | %d | %.4f | %.4f | %.4f | %s | %s | %s | %d |" % (
+        seq, b.get("frames", 0), off, paper, best, imp(paper), imp(best), posed,
         b.get("keyframes", {}).get("submitted", 0)))
 L.append("")
 L.append("## Table III: keyframe segmentation against ground truth")
