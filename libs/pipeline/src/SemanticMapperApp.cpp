@@ -34,6 +34,7 @@
 #include "smap/pipeline/KeyFrameScorer.h"
 #include "smap/pipeline/MapOutputWriter.h"
 #include "smap/pipeline/ProgressReporter.h"
+#include "smap/pipeline/RunLog.h"
 #include "smap/pipeline/SemanticMapper.h"
 
 namespace fs = std::filesystem;
@@ -61,29 +62,37 @@ void writeDynamicDebug(const std::string& outDir, size_t index,
     csv.commit();
 }
 
-double median(std::vector<double> v)
+/// ATE and RPE (1 s) of `trajectory` against the TUM file `groundTruth`, and the ATE plot when
+/// `plotPath` is not empty. A run too short to evaluate records the reason instead of failing.
+core::JsonValue evaluateTrajectory(const std::string& groundTruth,
+                                   const core::Trajectory& trajectory, const std::string& plotPath,
+                                   mrpt::system::COutputLogger& log)
 {
-    if (v.empty())
-        return 0.0;
-    std::nth_element(v.begin(), v.begin() + static_cast<long>(v.size() / 2), v.end());
-    return v[v.size() / 2];
-}
-
-double sum(const std::vector<double>& v)
-{
-    double s = 0.0;
-    for (double x : v)
-        s += x;
-    return s;
-}
-
-/// {"median_ms", "total_s", "count"} of a list of per-item milliseconds.
-core::JsonValue timing(const std::vector<double>& ms)
-{
-    auto j = core::JsonValue::object();
-    j.set("median_ms", median(ms)).set("total_s", sum(ms) / 1000.0);
-    j.set("count", static_cast<uint64_t>(ms.size()));
-    return j;
+    auto ev = core::JsonValue::object();
+    ev.set("ground_truth", fs::absolute(groundTruth).string());
+    const core::Trajectory gt = io::readTumTrajectory(groundTruth);  // a bad file is bad input
+    try
+    {
+        const eval::AteOptions ao;
+        const auto ate = eval::computeAte(gt, trajectory, ao);
+        ev.set("ate", eval::ateToJson(ate, ao));
+        eval::RpeOptions ro;
+        ev.set("rpe_1s", eval::rpeToJson(eval::computeRpe(gt, trajectory, ro), ro));
+        if (!plotPath.empty())
+        {
+            fs::create_directories(fs::path(plotPath).parent_path());
+            eval::saveAtePlot(plotPath, ate);
+        }
+        log.logFmt(mrpt::system::LVL_INFO, "ATE RMSE %.4f m over %zu poses", ate.translation.rmse,
+                   ate.pairs);
+    }
+    catch (const std::exception& e)
+    {
+        // Too few matching poses (a very short or lost run): the run's outputs still count.
+        ev.set("error", e.what());
+        log.logStr(mrpt::system::LVL_WARN, std::string("no trajectory evaluation: ") + e.what());
+    }
+    return ev;
 }
 
 double peakMemoryMiB()
@@ -100,12 +109,6 @@ void writeText(const fs::path& path, const std::string& text)
     f.commit();
 }
 
-/// Per-frame figures kept for frames.csv.
-struct FrameRow
-{
-    FrameStats stats;
-    SemanticMapper::FrameResult result;
-};
 }  // namespace
 
 SemanticMapperApp::SemanticMapperApp() : COutputLogger("semantic-mapper") {}
@@ -309,33 +312,18 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
                 writeDynamicDebug(outDir, item.index, item.frame);
         });
 
-    std::vector<FrameRow> rows;
+    RunLog log;
     ProgressReporter progress(source->sizeHint(), progressStream, *this);
-    size_t tracked = 0, lost = 0, relocalised = 0, reanchored = 0;
-    double firstStamp = 0.0, lastStamp = 0.0, sumValid = 0.0;
-    core::PinholeCamera camera;
     std::exception_ptr trackError;
     try
     {
         while (auto item = feeder.next())
         {
             const double stamp = item->frame.rgbd.timestamp;
-            if (rows.empty())
-            {
-                firstStamp = stamp;
-                camera = item->frame.rgbd.camera;
-            }
-            lastStamp = stamp;
-            FrameRow row{item->stats, mapper.track(std::move(item->frame))};
-            const auto status = row.result.tracking.status;
-            tracked += slam::hasPose(status) ? 1 : 0;
-            lost += status == slam::TrackingStatus::Lost ? 1 : 0;
-            relocalised += status == slam::TrackingStatus::Relocalised ? 1 : 0;
-            reanchored += status == slam::TrackingStatus::Reanchored ? 1 : 0;
-            sumValid += row.stats.validDepthFraction;
-            rows.push_back(row);
-            progress.update(rows.size(), mrpt::format("%zu keyframes, %zu lost",
-                                                      mapper.keyframesSubmitted(), lost));
+            const core::PinholeCamera camera = item->frame.rgbd.camera;
+            log.add(item->stats, stamp, camera, mapper.track(std::move(item->frame)));
+            progress.update(log.frames(), mrpt::format("%zu keyframes, %zu lost",
+                                                       mapper.keyframesSubmitted(), log.lost()));
         }
     }
     catch (...)
@@ -351,7 +339,7 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
         MRPT_LOG_WARN_FMT(
             "interrupted after %zu frames: finishing the keyframes queued and "
             "writing the outputs (Ctrl-C again to abort)",
-            rows.size());
+            log.frames());
     const double trackingWallS =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - tStart).count();
 
@@ -362,32 +350,14 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
         std::chrono::duration<double>(std::chrono::steady_clock::now() - tFinish).count();
     if (annotated)
         annotated->commit();
-    const size_t n = rows.size();
+    const size_t n = log.frames();
     const core::Trajectory trajectory = mapper.trajectory();
     io::writeTumTrajectory((dir / "trajectory.txt").string(), trajectory,
                            "camera (optical frame) poses of every tracked frame, world = first "
                            "tracked camera");
     io::writeTumTrajectory((dir / "keyframes.txt").string(), mapper.keyFrameTrajectory(),
                            "keyframe poses after local BA");
-    {
-        std::string csv = frameStatsCsvHeader() +
-                          ",status,keypoints,inliers,keyframe,extraction_ms,matching_ms,"
-                          "optimisation_ms,tracking_ms,dynamic_keypoints,dynamic_filter_ms,"
-                          "keyframe_queue_wait_ms\n";
-        for (const auto& r : rows)
-        {
-            const auto& t = r.result.tracking;
-            csv +=
-                toCsvRow(r.stats) + "," + slam::toString(t.status) + "," +
-                std::to_string(t.keypoints) + "," + std::to_string(t.inliers) + "," +
-                (t.newKeyFrame ? "1" : "0") + "," +
-                mrpt::format("%.3f,%.3f,%.3f,%.3f", t.timings.extraction_ms, t.timings.matching_ms,
-                             t.timings.optimisation_ms, t.timings.total_ms) +
-                "," + std::to_string(r.result.dynamicKeypoints) + "," +
-                mrpt::format("%.3f,%.3f\n", r.result.dynamicMs, r.result.queueWaitMs);
-        }
-        writeText(dir / "frames.csv", csv);
-    }
+    writeText(dir / "frames.csv", log.framesCsv());
 
     const auto tOut = std::chrono::steady_clock::now();
     std::vector<std::string> files = {"trajectory.txt", "keyframes.txt", "frames.csv",
@@ -417,14 +387,6 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
         std::chrono::duration<double>(std::chrono::steady_clock::now() - tOut).count();
 
     // metrics.json
-    std::vector<double> extractionMs, trackingMs, dynamicMs, waitMs;
-    for (const auto& r : rows)
-    {
-        extractionMs.push_back(r.result.tracking.timings.extraction_ms);
-        trackingMs.push_back(r.result.tracking.timings.total_ms);
-        dynamicMs.push_back(r.result.dynamicMs);
-        waitMs.push_back(r.result.queueWaitMs);
-    }
     const auto ws = mapper.worker().stats();
     const auto ms = mapper.slam().mappingStats();
     const double elapsed =
@@ -433,21 +395,9 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
     auto metrics = core::JsonValue::object();
     metrics.set("input", fs::absolute(input).string()).set("source", source->description());
     metrics.set("interrupted", interrupted);
-    metrics.set("frames", static_cast<uint64_t>(n));
-    metrics.set("duration_s", lastStamp - firstStamp);
-    metrics.set("mean_valid_depth_fraction", n ? sumValid / static_cast<double>(n) : 0.0);
-    {
-        auto cam = core::JsonValue::object();
-        cam.set("width", camera.width).set("height", camera.height).set("fx", camera.fx);
-        cam.set("fy", camera.fy).set("cx", camera.cx).set("cy", camera.cy);
-        metrics.set("camera", cam);
-    }
-    auto tracking = core::JsonValue::object();
-    tracking.set("frames_with_pose", static_cast<uint64_t>(tracked))
-        .set("frames_lost", static_cast<uint64_t>(lost))
-        .set("relocalisations", static_cast<uint64_t>(relocalised))
-        .set("reanchors", static_cast<uint64_t>(reanchored))
-        .set("keyframes", static_cast<uint64_t>(mapper.slam().numKeyFrames()))
+    log.describeInput(metrics);
+    auto tracking = log.trackingJson();
+    tracking.set("keyframes", static_cast<uint64_t>(mapper.slam().numKeyFrames()))
         .set("keyframes_culled", static_cast<uint64_t>(ms.keyframesCulled))
         .set("map_points", static_cast<uint64_t>(mapper.slam().numPoints()))
         .set("local_ba_runs", static_cast<uint64_t>(ms.baRuns));
@@ -478,17 +428,14 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
     metrics.set("map", mapj);
     auto timings = core::JsonValue::object();
     timings.set("setup_s", setupMs / 1000.0)
-        .set("read_decode", timing(feeder.readMilliseconds()))
-        .set("feature_extraction", timing(extractionMs))
-        .set("dynamic_filter", timing(dynamicMs))
-        .set("tracking", timing(trackingMs))
-        .set("keyframe_queue_wait", timing(waitMs))
-        .set("local_mapping_total_s", ms.totalSeconds)
+        .set("read_decode", timingJson(feeder.readMilliseconds()));
+    log.addTimings(timings);
+    timings.set("local_mapping_total_s", ms.totalSeconds)
         .set("local_ba_s", ms.baSeconds)
-        .set("segmentation", timing(ws.segmentationMs))
-        .set("association", timing(ws.associationMs))
-        .set("map_insertion", timing(ws.insertionMs))
-        .set("keyframe_outputs", timing(ws.observerMs))
+        .set("segmentation", timingJson(ws.segmentationMs))
+        .set("association", timingJson(ws.associationMs))
+        .set("map_insertion", timingJson(ws.insertionMs))
+        .set("keyframe_outputs", timingJson(ws.observerMs))
         .set("frames_done_s", trackingWallS)
         .set("finish_s", finishS)
         .set("outputs_s", outputS)
@@ -502,31 +449,11 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
                              params.localMapping.threaded ? "(own thread)" : "(on tracking)"));
     if (!groundTruth.empty())
     {
-        const core::Trajectory gt = io::readTumTrajectory(groundTruth);
-        auto ev = core::JsonValue::object();
-        ev.set("ground_truth", fs::absolute(groundTruth).string());
-        try
-        {
-            const eval::AteOptions ao;
-            const auto ate = eval::computeAte(gt, trajectory, ao);
-            ev.set("ate", eval::ateToJson(ate, ao));
-            eval::RpeOptions ro;
-            ev.set("rpe_1s", eval::rpeToJson(eval::computeRpe(gt, trajectory, ro), ro));
-            if (params.pipeline.snapshots)
-            {
-                fs::create_directories(dir / "snapshots");
-                eval::saveAtePlot((dir / "snapshots" / "ate.png").string(), ate);
-                files.emplace_back("snapshots/ate.png");
-            }
-            MRPT_LOG_INFO_FMT("ATE RMSE %.4f m over %zu poses", ate.translation.rmse, ate.pairs);
-        }
-        catch (const std::exception& e)
-        {
-            // Too few matching poses (a very short or lost run): the run's outputs still count.
-            ev.set("error", e.what());
-            MRPT_LOG_WARN_STREAM("no trajectory evaluation: " << e.what());
-        }
-        metrics.set("evaluation", ev);
+        const std::string plot =
+            params.pipeline.snapshots ? (dir / "snapshots" / "ate.png").string() : std::string();
+        metrics.set("evaluation", evaluateTrajectory(groundTruth, trajectory, plot, *this));
+        if (!plot.empty() && fs::exists(plot))
+            files.emplace_back("snapshots/ate.png");
     }
     if (scorer)
     {
@@ -540,11 +467,12 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
     MRPT_LOG_INFO_FMT(
         "%zu frames in %.2f s (%.1f frames/s): %zu with a pose, %zu lost, %zu keyframes mapped, "
         "%zu map points",
-        n, elapsed, elapsed > 0 ? static_cast<double>(n) / elapsed : 0.0, tracked, lost,
-        ws.keyframes, mapPoints);
-    out << "semantic-mapper: " << n << " frames from " << input << ", " << tracked << " tracked, "
-        << ws.keyframes << " keyframes mapped" << (interrupted ? " (interrupted)" : "")
-        << "\noutputs in " << fs::absolute(outDir).string() << "/:\n";
+        n, elapsed, elapsed > 0 ? static_cast<double>(n) / elapsed : 0.0, log.withPose(),
+        log.lost(), ws.keyframes, mapPoints);
+    out << "semantic-mapper: " << n << " frames from " << input << ", " << log.withPose()
+        << " tracked, " << ws.keyframes << " keyframes mapped"
+        << (interrupted ? " (interrupted)" : "") << "\noutputs in " << fs::absolute(outDir).string()
+        << "/:\n";
     for (const auto& f : files)
         out << "  " << f << "\n";
     return interrupted ? kExitInterrupted : kExitOk;

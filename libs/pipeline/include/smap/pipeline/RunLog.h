@@ -1,0 +1,48 @@
+// What semantic-mapper records of every frame of a run: the frame's statistics and its tracking
+// result, with the counts and per-frame timings metrics.json and frames.csv report.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "smap/core/JsonWriter.h"
+#include "smap/core/PinholeCamera.h"
+#include "smap/pipeline/FrameSummary.h"
+#include "smap/pipeline/SemanticMapper.h"
+
+namespace smap::pipeline
+{
+class RunLog
+{
+public:
+    void add(const FrameStats& stats, double timestamp, const core::PinholeCamera& camera,
+             const SemanticMapper::FrameResult& result);
+
+    size_t frames() const { return rows_.size(); }
+    size_t withPose() const { return withPose_; }
+    size_t lost() const { return lost_; }
+
+    /// frames.csv: the frame statistics, then status, keypoints, inliers, keyframe, timings.
+    std::string framesCsv() const;
+    /// Sets "frames", "duration_s", "mean_valid_depth_fraction" and "camera" in `metrics`.
+    void describeInput(core::JsonValue& metrics) const;
+    /// frames_with_pose, frames_lost, relocalisations, reanchors.
+    core::JsonValue trackingJson() const;
+    /// Sets feature_extraction, dynamic_filter, tracking and keyframe_queue_wait in `timings`.
+    void addTimings(core::JsonValue& timings) const;
+
+private:
+    struct Row
+    {
+        FrameStats stats;
+        SemanticMapper::FrameResult result;
+    };
+    std::vector<Row> rows_;
+    size_t withPose_ = 0, lost_ = 0, relocalised_ = 0, reanchored_ = 0;
+    double firstStamp_ = 0.0, lastStamp_ = 0.0, sumValidDepth_ = 0.0;
+    core::PinholeCamera camera_;
+};
+
+/// {"median_ms", "total_s", "count"} of a list of per-item milliseconds.
+core::JsonValue timingJson(const std::vector<double>& milliseconds);
+}  // namespace smap::pipeline

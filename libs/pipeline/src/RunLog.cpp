@@ -1,0 +1,101 @@
+#include "smap/pipeline/RunLog.h"
+
+#include <mrpt/core/format.h>
+
+#include <algorithm>
+
+namespace smap::pipeline
+{
+core::JsonValue timingJson(const std::vector<double>& milliseconds)
+{
+    std::vector<double> v = milliseconds;
+    double median = 0.0, sum = 0.0;
+    if (!v.empty())
+    {
+        std::nth_element(v.begin(), v.begin() + static_cast<long>(v.size() / 2), v.end());
+        median = v[v.size() / 2];
+    }
+    for (const double x : v)
+        sum += x;
+    auto j = core::JsonValue::object();
+    j.set("median_ms", median).set("total_s", sum / 1000.0);
+    j.set("count", static_cast<uint64_t>(v.size()));
+    return j;
+}
+
+void RunLog::add(const FrameStats& stats, double timestamp, const core::PinholeCamera& camera,
+                 const SemanticMapper::FrameResult& result)
+{
+    if (rows_.empty())
+    {
+        firstStamp_ = timestamp;
+        camera_ = camera;
+    }
+    lastStamp_ = timestamp;
+    const auto status = result.tracking.status;
+    withPose_ += slam::hasPose(status) ? 1 : 0;
+    lost_ += status == slam::TrackingStatus::Lost ? 1 : 0;
+    relocalised_ += status == slam::TrackingStatus::Relocalised ? 1 : 0;
+    reanchored_ += status == slam::TrackingStatus::Reanchored ? 1 : 0;
+    sumValidDepth_ += stats.validDepthFraction;
+    rows_.push_back({stats, result});
+}
+
+std::string RunLog::framesCsv() const
+{
+    std::string csv = frameStatsCsvHeader() +
+                      ",status,keypoints,inliers,keyframe,extraction_ms,matching_ms,"
+                      "optimisation_ms,tracking_ms,dynamic_keypoints,dynamic_filter_ms,"
+                      "keyframe_queue_wait_ms\n";
+    for (const auto& r : rows_)
+    {
+        const auto& t = r.result.tracking;
+        csv += toCsvRow(r.stats) + "," + slam::toString(t.status) + "," +
+               std::to_string(t.keypoints) + "," + std::to_string(t.inliers) + "," +
+               (t.newKeyFrame ? "1" : "0") + "," +
+               mrpt::format("%.3f,%.3f,%.3f,%.3f", t.timings.extraction_ms, t.timings.matching_ms,
+                            t.timings.optimisation_ms, t.timings.total_ms) +
+               "," + std::to_string(r.result.dynamicKeypoints) + "," +
+               mrpt::format("%.3f,%.3f\n", r.result.dynamicMs, r.result.queueWaitMs);
+    }
+    return csv;
+}
+
+void RunLog::describeInput(core::JsonValue& metrics) const
+{
+    const size_t n = rows_.size();
+    metrics.set("frames", static_cast<uint64_t>(n));
+    metrics.set("duration_s", lastStamp_ - firstStamp_);
+    metrics.set("mean_valid_depth_fraction", n ? sumValidDepth_ / static_cast<double>(n) : 0.0);
+    auto cam = core::JsonValue::object();
+    cam.set("width", camera_.width).set("height", camera_.height).set("fx", camera_.fx);
+    cam.set("fy", camera_.fy).set("cx", camera_.cx).set("cy", camera_.cy);
+    metrics.set("camera", cam);
+}
+
+core::JsonValue RunLog::trackingJson() const
+{
+    auto j = core::JsonValue::object();
+    j.set("frames_with_pose", static_cast<uint64_t>(withPose_))
+        .set("frames_lost", static_cast<uint64_t>(lost_))
+        .set("relocalisations", static_cast<uint64_t>(relocalised_))
+        .set("reanchors", static_cast<uint64_t>(reanchored_));
+    return j;
+}
+
+void RunLog::addTimings(core::JsonValue& timings) const
+{
+    std::vector<double> extraction, tracking, dynamic, wait;
+    for (const auto& r : rows_)
+    {
+        extraction.push_back(r.result.tracking.timings.extraction_ms);
+        tracking.push_back(r.result.tracking.timings.total_ms);
+        dynamic.push_back(r.result.dynamicMs);
+        wait.push_back(r.result.queueWaitMs);
+    }
+    timings.set("feature_extraction", timingJson(extraction))
+        .set("dynamic_filter", timingJson(dynamic))
+        .set("tracking", timingJson(tracking))
+        .set("keyframe_queue_wait", timingJson(wait));
+}
+}  // namespace smap::pipeline
