@@ -1,6 +1,6 @@
 #include "smap/pipeline/FrameFeeder.h"
 
-#include <chrono>
+#include "smap/core/Elapsed.h"
 
 namespace smap::pipeline
 {
@@ -84,8 +84,7 @@ std::optional<FrameFeeder::Raw> FrameFeeder::read()
     r.index = nextIndex_++;
     r.stats = computeFrameStats(*frame);
     r.frame = std::move(*frame);
-    const double ms =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    const double ms = core::millisecondsSince(t0);
     std::lock_guard<std::mutex> lock(mutex_);
     readMs_.push_back(ms);
     return r;

@@ -1,19 +1,12 @@
 #include "smap/pipeline/KeyFrameWorker.h"
 
-#include <chrono>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "smap/core/Elapsed.h"
+
 namespace smap::pipeline
 {
-namespace
-{
-double msSince(std::chrono::steady_clock::time_point t0)
-{
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
-}  // namespace
-
 KeyFrameWorker::KeyFrameWorker(std::unique_ptr<segmentation::Segmenter> segmenter,
                                core::LabelSet labels,
                                const mapping::DynamicRegionParameters& association,
@@ -133,11 +126,11 @@ void KeyFrameWorker::process(KeyFrameJob& job)
         obs->labels = cv::Mat(f.colour.size(), CV_8UC1, cv::Scalar(255));
         obs->confidence = cv::Mat(f.colour.size(), CV_32FC1, cv::Scalar(0.0F));
     }
-    const double segMs = msSince(t0);
+    const double segMs = core::millisecondsSince(t0);
 
     t0 = std::chrono::steady_clock::now();
     const mapping::DynamicRegions regions = finder_.find(obs->labels, f.depth, job.dynamicPoints);
-    const double assocMs = msSince(t0);
+    const double assocMs = core::millisecondsSince(t0);
 
     obs->sensorLabel = "SEMANTIC_RGBD";
     obs->timestamp = mrpt::Clock::fromDouble(f.timestamp);
@@ -156,12 +149,12 @@ void KeyFrameWorker::process(KeyFrameJob& job)
                      {obs->colour, obs->depth, obs->labels, obs->confidence, obs->dynamicMask},
                      f.camera, job.T_world_cam);
     }
-    const double insertMs = msSince(t0);
+    const double insertMs = core::millisecondsSince(t0);
 
     t0 = std::chrono::steady_clock::now();
     if (observer_)
         observer_(job, *obs, regions);
-    const double observerMs = msSince(t0);
+    const double observerMs = core::millisecondsSince(t0);
 
     const auto dynamicPixels = static_cast<size_t>(cv::countNonZero(regions.dynamicMask));
     std::lock_guard<std::mutex> lock(statsMutex_);

@@ -1,18 +1,11 @@
 #include "smap/pipeline/SemanticMapper.h"
 
-#include <chrono>
 #include <map>
+
+#include "smap/core/Elapsed.h"
 
 namespace smap::pipeline
 {
-namespace
-{
-double msSince(std::chrono::steady_clock::time_point t0)
-{
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
-}  // namespace
-
 SemanticMapper::SemanticMapper(const SemanticMapperParameters& params)
     : COutputLogger("semantic-mapper"),
       params_(params),
@@ -38,7 +31,7 @@ SemanticMapper::PreparedFrame SemanticMapper::prepare(const core::RgbdFrame& fra
     p.rgbd = frame;
     const auto t0 = std::chrono::steady_clock::now();
     p.features = slam_->prepare(frame);
-    p.extractionMs = msSince(t0);
+    p.extractionMs = core::millisecondsSince(t0);
     p.dynamic =
         dynamicFilter_.process(frame.colour, frame.depth, p.features.features, frame.camera);
     p.features.setWeights(p.dynamic.weights());
@@ -74,7 +67,7 @@ SemanticMapper::FrameResult SemanticMapper::track(PreparedFrame frame)
         job.dynamicPoints = std::move(dynamicPoints);
         const auto t0 = std::chrono::steady_clock::now();
         const bool queued = worker_->submit(std::move(job), params_.pipeline.when_full == "wait");
-        r.queueWaitMs = msSince(t0);
+        r.queueWaitMs = core::millisecondsSince(t0);
         r.keyframeDropped = !queued;
         keyframes_ += queued ? 1 : 0;
     }

@@ -14,6 +14,7 @@
 #include <thread>
 
 #include "smap/core/AtomicFile.h"
+#include "smap/core/Elapsed.h"
 #include "smap/core/InputError.h"
 #include "smap/core/JsonWriter.h"
 #include "smap/dynamic/EvidenceReport.h"
@@ -265,9 +266,7 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
     mapper.setLoggingLevel(getMinLoggingLevel());
     if (params.pipeline.opencv_threads > 0)
         cv::setNumThreads(params.pipeline.opencv_threads);
-    const double setupMs =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - tStart)
-            .count();
+    const double setupMs = core::millisecondsSince(tStart);
 
     fs::create_directories(outDir);
     const fs::path dir(outDir);
@@ -340,14 +339,12 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
             "interrupted after %zu frames: finishing the keyframes queued and "
             "writing the outputs (Ctrl-C again to abort)",
             log.frames());
-    const double trackingWallS =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - tStart).count();
+    const double trackingWallS = core::secondsSince(tStart);
 
     // Drain the worker, re-anchor, write.
     const auto tFinish = std::chrono::steady_clock::now();
     const auto reanchor = mapper.finish();
-    const double finishS =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - tFinish).count();
+    const double finishS = core::secondsSince(tFinish);
     if (annotated)
         annotated->commit();
     const size_t n = log.frames();
@@ -383,14 +380,12 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
             contributionBytes = b.contributionBytes();
             mapBytes = b.pointsMap().memoryBytes() + b.octoMap().memoryBytes();
         });
-    const double outputS =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - tOut).count();
+    const double outputS = core::secondsSince(tOut);
 
     // metrics.json
     const auto ws = mapper.worker().stats();
     const auto ms = mapper.slam().mappingStats();
-    const double elapsed =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - tStart).count();
+    const double elapsed = core::secondsSince(tStart);
 
     auto metrics = core::JsonValue::object();
     metrics.set("input", fs::absolute(input).string()).set("source", source->description());

@@ -3,18 +3,13 @@
 #include <chrono>
 #include <set>
 
+#include "smap/core/Elapsed.h"
 #include "smap/slam/Map.h"
 #include "smap/slam/ProjectionSearch.h"
 
 namespace smap::slam
 {
-namespace
-{
-double secondsSince(std::chrono::steady_clock::time_point t0)
-{
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-}  // namespace
+using core::secondsSince;
 
 LocalMapper::LocalMapper(Map& map, const LocalMappingParameters& params)
     : COutputLogger("local-mapping"), map_(map), params_(params)

@@ -1,10 +1,10 @@
 #include "smap/slam/Tracker.h"
 
 #include <algorithm>
-#include <chrono>
 #include <map>
 #include <set>
 
+#include "smap/core/Elapsed.h"
 #include "smap/features/DescriptorMatcher.h"
 #include "smap/features/RotationConsistency.h"
 #include "smap/slam/LocalMapper.h"
@@ -15,14 +15,8 @@
 
 namespace smap::slam
 {
-namespace
-{
-using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t0)
-{
-    return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
-}  // namespace
+using Clock = core::SteadyClock;
+using core::millisecondsSince;
 
 std::string toString(TrackingStatus s)
 {
@@ -53,7 +47,7 @@ int Tracker::optimise(Frame& frame)
 {
     const auto t0 = Clock::now();
     const int n = optimizePose(frame, params_.optimisation_rounds, params_.optimisation_iterations);
-    timings_.optimisation_ms += msSince(t0);
+    timings_.optimisation_ms += millisecondsSince(t0);
     return n;
 }
 
@@ -182,7 +176,7 @@ TrackingResult Tracker::track(Frame frame)
     }
     result.newKeyFrame = newKf != nullptr;
     last_ = std::move(frame);
-    timings_.total_ms = msSince(t0);
+    timings_.total_ms = millisecondsSince(t0);
     timings_.matching_ms = std::max(0.0, timings_.total_ms - timings_.optimisation_ms);
     result.timings = timings_;
     // Outside the map lock: a synchronous local mapper processes the keyframe right here
