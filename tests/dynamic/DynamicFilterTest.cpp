@@ -93,6 +93,47 @@ Scores runFilter(const std::string& preset, dynamic::FilterMode mode, size_t fir
     }
     return s;
 }
+/// Two frames of a random scene seen by a camera that moved by `camera_motion`, where the
+/// points with index >= n_static belong to movers that went along with `mover_motion` as
+/// well (so the current camera sees them at mover_motion x camera_motion). Random binary
+/// descriptors make every match exact.
+struct TwoFrames
+{
+    features::FeatureSet previous, current;
+    std::vector<bool> moving;  ///< per previous keypoint
+};
+
+TwoFrames twoFrames(const core::PinholeCamera& cam, const Eigen::Isometry3d& camera_motion,
+                    const Eigen::Isometry3d& mover_motion, int n_static, int n_moving)
+{
+    cv::RNG rng(7);
+    TwoFrames t;
+    const int n = n_static + n_moving;
+    t.previous.descriptors = cv::Mat(n, 32, CV_8U);
+    t.current.descriptors = cv::Mat(n, 32, CV_8U);
+    for (int i = 0; i < n; ++i)
+    {
+        // A point in front of the previous camera, away from the borders.
+        const double u = rng.uniform(60.0, cam.width - 60.0),
+                     v = rng.uniform(60.0, cam.height - 60.0);
+        const Eigen::Vector3d X = cam.unproject(u, v, rng.uniform(1.0, 3.0));
+        const bool moving = i >= n_static;
+        const Eigen::Vector3d Y = moving ? Eigen::Vector3d(mover_motion * (camera_motion * X))
+                                         : Eigen::Vector3d(camera_motion * X);
+        for (auto* f : {&t.previous, &t.current})
+        {
+            const Eigen::Vector3d& P = f == &t.previous ? X : Y;
+            const Eigen::Vector2d px = cam.project(P);
+            f->keypoints.emplace_back(static_cast<float>(px.x()), static_cast<float>(px.y()), 8.0F);
+            f->undistorted.emplace_back(static_cast<float>(px.x()), static_cast<float>(px.y()));
+            f->depth.push_back(static_cast<float>(P.z()));
+        }
+        rng.fill(t.previous.descriptors.row(i), cv::RNG::UNIFORM, 0, 256);
+        t.previous.descriptors.row(i).copyTo(t.current.descriptors.row(i));
+        t.moving.push_back(moving);
+    }
+    return t;
+}
 }  // namespace
 
 TEST(EgoMotion, FivePointWithDepthScaleMatchesTheTrueRelativePose)
@@ -144,6 +185,87 @@ TEST(EgoMotion, DepthPnpMatchesTheTrueRelativePoseOverAShortBaseline)
         EXPECT_LT(rotationError(ego.T_cur_prev, truth), 0.15 * M_PI / 180.0) << first;
         EXPECT_GT(ego.inliers, 100);
     }
+}
+
+// People filling most of the view: 70 % of the matches move together. Left to RANSAC they
+// outvote the background; leaving out the previous frame's dynamic keypoints, or a prior
+// motion that the large jump contradicts, gives the camera's motion.
+TEST(EgoMotion, MoversThatAreTheMajorityDoNotPullTheEgoMotion)
+{
+    core::PinholeCamera cam;
+    cam.width = 640;
+    cam.height = 480;
+    cam.fx = cam.fy = 525.0;
+    cam.cx = 319.5;
+    cam.cy = 239.5;
+    Eigen::Isometry3d camera = Eigen::Isometry3d::Identity();
+    camera.translate(Eigen::Vector3d(0.01, -0.005, 0.008));
+    camera.rotate(Eigen::AngleAxisd(0.01, Eigen::Vector3d::UnitY()));
+    Eigen::Isometry3d mover = Eigen::Isometry3d::Identity();
+    mover.translate(Eigen::Vector3d(0.08, 0.0, 0.02));
+    const TwoFrames t = twoFrames(cam, camera, mover, 120, 280);
+    dynamic::DynamicParameters dp;
+    dp.ego_max_queries = 0;
+
+    const auto pulled = dynamic::estimateEgoMotionDepthPnp(t.previous, t.current, cam, dp);
+    ASSERT_TRUE(pulled.valid);
+    EXPECT_GT(translationError(pulled.T_cur_prev, camera), 0.05) << "movers should win alone";
+
+    const auto leftOut =
+        dynamic::estimateEgoMotionDepthPnp(t.previous, t.current, cam, dp, true, t.moving);
+    ASSERT_TRUE(leftOut.valid);
+    EXPECT_FALSE(leftOut.fromPrior);
+    EXPECT_LT(translationError(leftOut.T_cur_prev, camera), 1e-3);
+    EXPECT_LT(rotationError(leftOut.T_cur_prev, camera), 0.05 * M_PI / 180.0);
+    EXPECT_LE(leftOut.matches, 120);
+
+    // The prior: the previous frame's motion, 4 mm and 0.2 degrees from this one's.
+    Eigen::Isometry3d prior = camera;
+    prior.translate(Eigen::Vector3d(0.004, 0.0, 0.0));
+    prior.rotate(Eigen::AngleAxisd(0.2 * M_PI / 180.0, Eigen::Vector3d::UnitX()));
+    const auto gated =
+        dynamic::estimateEgoMotionDepthPnp(t.previous, t.current, cam, dp, true, {}, prior);
+    ASSERT_TRUE(gated.valid);
+    EXPECT_TRUE(gated.fromPrior);
+    EXPECT_LT(translationError(gated.T_cur_prev, prior), 1e-9);
+    // Without the gate the movers' larger support wins again.
+    dynamic::DynamicParameters noGate = dp;
+    noGate.ego_gate_translation = 0.0;
+    const auto ungated =
+        dynamic::estimateEgoMotionDepthPnp(t.previous, t.current, cam, noGate, true, {}, prior);
+    EXPECT_FALSE(ungated.fromPrior);
+    EXPECT_GT(translationError(ungated.T_cur_prev, camera), 0.05);
+}
+
+// The gate gives way when the prior itself is wrong: a RANSAC pose four times better
+// supported is taken even though it is far from the prior.
+TEST(EgoMotion, AWrongPriorDoesNotOverruleAWellSupportedPose)
+{
+    core::PinholeCamera cam;
+    cam.width = 640;
+    cam.height = 480;
+    cam.fx = cam.fy = 525.0;
+    cam.cx = 319.5;
+    cam.cy = 239.5;
+    Eigen::Isometry3d camera = Eigen::Isometry3d::Identity();
+    camera.translate(Eigen::Vector3d(0.01, 0.0, 0.0));
+    const TwoFrames t = twoFrames(cam, camera, Eigen::Isometry3d::Identity(), 300, 0);
+    dynamic::DynamicParameters dp;
+    Eigen::Isometry3d wrong = Eigen::Isometry3d::Identity();
+    wrong.translate(Eigen::Vector3d(-0.1, 0.05, 0.0));
+    const auto ego =
+        dynamic::estimateEgoMotionDepthPnp(t.previous, t.current, cam, dp, true, {}, wrong);
+    ASSERT_TRUE(ego.valid);
+    EXPECT_FALSE(ego.fromPrior);
+    EXPECT_LT(translationError(ego.T_cur_prev, camera), 1e-3);
+    // Too few matches for RANSAC: the prior stands in.
+    const TwoFrames few = twoFrames(cam, camera, Eigen::Isometry3d::Identity(), 8, 0);
+    const auto standIn =
+        dynamic::estimateEgoMotionDepthPnp(few.previous, few.current, cam, dp, true, {}, camera);
+    EXPECT_TRUE(standIn.valid);
+    EXPECT_TRUE(standIn.fromPrior);
+    EXPECT_FALSE(
+        dynamic::estimateEgoMotionDepthPnp(few.previous, few.current, cam, dp, true, {}).valid);
 }
 
 TEST(DynamicFilter, StrongModeEgoMotionIsRefinedOnTheFlowTracks)

@@ -91,7 +91,7 @@ TEST(EvalApp, KeypointsScoresDecisionsAgainstMasks)
     ASSERT_TRUE(cv::imwrite(dir / "masks/000002.png", mask));
     ASSERT_TRUE(cv::imwrite(dir / "masks/000000.png", mask));
     const std::string header =
-        "u,v,depth_m,residual_px,patch_error,flow,depth_test,region,isolated,dynamic\n";
+        "u,v,depth_m,residual_px,patch_error,flow,depth_test,region,isolated,was_dynamic,dynamic\n";
     // Frame 0 was not evaluated: it must not count (its all-static rows would be misses).
     writeFile(dir / "debug/000000.csv",
               "# not evaluated (no previous frame): no decision was made\n" + header +

@@ -72,6 +72,15 @@ DynamicResult DynamicFilter::process(const cv::Mat& colour, const cv::Mat& depth
         else
             processPaper(grey, features, camera, msSinceLap, result);
     }
+    if (strong && result.framesBack > 0 && result.egoMotion.valid)
+    {
+        lastMotion_ = result.egoMotion.T_cur_prev;
+        lastFramesBack_ = result.framesBack;
+    }
+    else
+    {
+        lastMotion_.reset();
+    }
     if (params_.mode != FilterMode::Off)
     {
         PastFrame past;
@@ -135,8 +144,10 @@ void DynamicFilter::processStrong(const cv::Mat& depth, const features::FeatureS
                                   DynamicResult& result) const
 {
     // No final iterative refinement: the flow tracks refine the pose below.
+    const std::optional<Eigen::Isometry3d> prior =
+        lastFramesBack_ == history_.size() ? lastMotion_ : std::nullopt;
     result.egoMotion = estimateEgoMotionDepthPnp(reference().features, features, camera, params_,
-                                                 false, reference().dynamic);
+                                                 false, reference().dynamic, prior);
     if (!result.egoMotion.valid)
         result.egoMotion =
             estimateEgoMotionFivePoint(reference().features, features, camera, params_);
@@ -241,6 +252,20 @@ void DynamicFilter::processStrong(const cv::Mat& depth, const features::FeatureS
         cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 20, 0.03),
         cv::OPTFLOW_USE_INITIAL_FLOW);
     result.flowMilliseconds = lap();
+    const std::vector<bool> wasDynamic = dynamicBefore(status, tracked, predicted);
+    size_t candidates = 0;
+    for (size_t i = 0; i < n; ++i)
+    {
+        result.keypoints[i].wasDynamic = wasDynamic[i];
+        candidates += status[i] != 0 && z[i] > 0.0F && !wasDynamic[i] ? 1 : 0;
+    }
+    // Keypoints that were on movers stay out of the refinement, unless too few others remain.
+    const bool useTemporal = candidates >= 40;
+    auto refineCandidate = [&](size_t i)
+    {
+        return status[i] != 0 && z[i] > 0.0F && zPrevious[i] > 0.05F &&
+               !(useTemporal && wasDynamic[i]);
+    };
 
     // Refine the ego-motion on the sub-pixel Lucas-Kanade tracks of the keypoints with depth
     // that look static under the current estimate: several hundred correspondences, more
@@ -253,7 +278,7 @@ void DynamicFilter::processStrong(const cv::Mat& depth, const features::FeatureS
     {
         std::vector<float> sq;
         for (size_t i = 0; i < n; ++i)
-            if (status[i] != 0 && z[i] > 0.0F && zPrevious[i] > 0.05F)
+            if (refineCandidate(i))
             {
                 const cv::Point2f d = tracked[i] - predicted[i];
                 sq.push_back(d.dot(d));
@@ -270,8 +295,7 @@ void DynamicFilter::processStrong(const cv::Mat& depth, const features::FeatureS
         for (size_t i = 0; i < n; ++i)
         {
             const cv::Point2f d = tracked[i] - predicted[i];
-            if (status[i] != 0 && z[i] > 0.0F && zPrevious[i] > 0.05F &&
-                d.dot(d) < static_cast<float>(limit * limit))
+            if (refineCandidate(i) && d.dot(d) < static_cast<float>(limit * limit))
             {
                 object.push_back(X_cur[i]);
                 image.push_back(tracked[i]);
@@ -354,15 +378,53 @@ void DynamicFilter::processStrong(const cv::Mat& depth, const features::FeatureS
     decideStrong(features, result);
 }
 
+std::vector<bool> DynamicFilter::dynamicBefore(const std::vector<uint8_t>& status,
+                                               const std::vector<cv::Point2f>& tracked,
+                                               const std::vector<cv::Point2f>& predicted) const
+{
+    std::vector<bool> out(tracked.size(), false);
+    const PastFrame& ref = reference();
+    if (ref.dynamic.size() != ref.features.size() || ref.features.size() == 0)
+        return out;
+    std::vector<cv::Point2f> pts;
+    pts.reserve(ref.features.size());
+    for (const auto& kp : ref.features.keypoints)
+        pts.push_back(kp.pt);
+    const std::vector<int> levels(pts.size(), 0);
+    const features::FeatureGrid grid(pts, levels, ref.depth.cols, ref.depth.rows, 16);
+    constexpr float kRadius = 8.0F;
+    for (size_t i = 0; i < tracked.size(); ++i)
+    {
+        const cv::Point2f& q = status[i] != 0 ? tracked[i] : predicted[i];
+        int dyn = 0, all = 0;
+        for (size_t j : grid.query(q.x, q.y, kRadius))
+        {
+            all++;
+            dyn += ref.dynamic[j] ? 1 : 0;
+        }
+        out[i] = 2 * dyn > all;
+    }
+    return out;
+}
+
 void DynamicFilter::decideStrong(const features::FeatureSet& features, DynamicResult& result) const
 {
     auto& kps = result.keypoints;
     // Adaptive tau from the frame's residual statistics: most keypoints are static, so the
     // median and MAD describe how well the ego-motion compensates this frame.
-    std::vector<float> r;
+    std::vector<float> r, rBefore;
     for (const auto& e : kps)
-        if (e.residual >= 0.0F)
-            r.push_back(e.residual);
+    {
+        if (e.residual < 0.0F)
+            continue;
+        r.push_back(e.residual);
+        if (!e.wasDynamic)
+            rBefore.push_back(e.residual);
+    }
+    // Where movers fill much of the view, the keypoints that were static describe the
+    // compensation better than all of them.
+    if (rBefore.size() >= 40)
+        r.swap(rBefore);
     if (r.size() < 10)
     {
         for (auto& e : kps)

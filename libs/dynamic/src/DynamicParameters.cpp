@@ -45,6 +45,8 @@ void DynamicParameters::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
     pnp_threshold = cfg.read_double(s, "pnp_threshold", pnp_threshold);
     ego_max_queries = cfg.read_int(s, "ego_max_queries", ego_max_queries);
     frame_gap = cfg.read_int(s, "frame_gap", frame_gap);
+    ego_gate_translation = cfg.read_double(s, "ego_gate_translation", ego_gate_translation);
+    ego_gate_rotation_deg = cfg.read_double(s, "ego_gate_rotation_deg", ego_gate_rotation_deg);
     strong_lk_window = cfg.read_int(s, "strong_lk_window", strong_lk_window);
     strong_lk_levels = cfg.read_int(s, "strong_lk_levels", strong_lk_levels);
     tau_min = cfg.read_double(s, "tau_min", tau_min);
@@ -65,6 +67,10 @@ void DynamicParameters::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
     if (ego_max_queries != 0 && ego_max_queries < 20)
         throw core::InputError(mrpt::format(
             "[dynamic] ego_max_queries = %d must be 0 (all) or >= 20", ego_max_queries));
+    if (!(ego_gate_translation >= 0.0) || !(ego_gate_rotation_deg >= 0.0))
+        throw core::InputError(mrpt::format(
+            "[dynamic] ego_gate_translation = %g and ego_gate_rotation_deg = %g must be >= 0",
+            ego_gate_translation, ego_gate_rotation_deg));
     if (!(tau_min > 0.0 && tau_min <= tau))
         throw core::InputError(
             mrpt::format("[dynamic] tau_min = %g must be in (0, tau = %g]", tau_min, tau));
@@ -124,6 +130,8 @@ void DynamicParameters::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
     cfg.write(s, "match_radius", match_radius);
     cfg.write(s, "pnp_threshold", pnp_threshold);
     cfg.write(s, "ego_max_queries", ego_max_queries);
+    cfg.write(s, "ego_gate_translation", ego_gate_translation);
+    cfg.write(s, "ego_gate_rotation_deg", ego_gate_rotation_deg);
     cfg.write(s, "frame_gap", frame_gap);
     cfg.write(s, "strong_lk_window", strong_lk_window);
     cfg.write(s, "strong_lk_levels", strong_lk_levels);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <opencv2/calib3d.hpp>
+#include <utility>
 #include <vector>
 
 #include "smap/features/DescriptorMatcher.h"
@@ -21,28 +22,70 @@ double median(std::vector<double>& v)
 
 namespace
 {
+/// Ratio-test matches of current keypoints (query) to previous ones (train) within
+/// match_radius. `rows`: the current keypoints to query (empty: all). Previous keypoints marked
+/// in `excluded` (one entry per previous keypoint, or empty) are never matched.
 std::vector<features::DescriptorMatch> frameToFrameMatches(const features::FeatureSet& previous,
                                                            const features::FeatureSet& current,
                                                            const core::PinholeCamera& camera,
                                                            const DynamicParameters& params,
-                                                           int max_queries = 0)
+                                                           const std::vector<size_t>& rows,
+                                                           const std::vector<bool>& excluded = {})
 {
-    // At most max_queries current keypoints, spread evenly over the (grid-ordered) set.
-    std::vector<size_t> rows;
-    if (max_queries > 0 && current.size() > static_cast<size_t>(max_queries))
-    {
-        const double step = static_cast<double>(current.size()) / max_queries;
-        for (int k = 0; k < max_queries; ++k)
-            rows.push_back(static_cast<size_t>(k * step));
-    }
     std::vector<int> levels;
     levels.reserve(previous.size());
     for (const auto& kp : previous.keypoints)
         levels.push_back(kp.octave);
-    const features::FeatureGrid grid(previous.undistorted, levels, camera.width, camera.height);
+    std::vector<cv::Point2f> points = previous.undistorted;
+    // An excluded keypoint is moved far outside the image: no query radius reaches it.
+    if (excluded.size() == points.size())
+        for (size_t i = 0; i < points.size(); ++i)
+            if (excluded[i])
+                points[i] = cv::Point2f(-1e6F, -1e6F);
+    const features::FeatureGrid grid(std::move(points), levels, camera.width, camera.height);
     return features::matchWithinRadius(
         current.descriptors, current.keypoints, current.undistorted, previous.descriptors, grid,
         static_cast<float>(params.match_radius), static_cast<float>(params.match_ratio), 64, rows);
+}
+
+/// At most `max_queries` of `n` keypoints, spread evenly over the (grid-ordered) set, and the
+/// others; both empty when max_queries is 0 or not below n (then all are queried at once).
+std::pair<std::vector<size_t>, std::vector<size_t>> splitQueries(size_t n, int max_queries)
+{
+    std::vector<size_t> first, rest;
+    if (max_queries <= 0 || n <= static_cast<size_t>(max_queries))
+        return {first, rest};
+    std::vector<bool> taken(n, false);
+    const double step = static_cast<double>(n) / max_queries;
+    for (int k = 0; k < max_queries; ++k)
+    {
+        const auto i = static_cast<size_t>(k * step);
+        first.push_back(i);
+        taken[i] = true;
+    }
+    for (size_t i = 0; i < n; ++i)
+        if (!taken[i])
+            rest.push_back(i);
+    return {first, rest};
+}
+
+/// Matches whose reprojection under T_cur_prev lies within `tolerance` px.
+int support(const Eigen::Isometry3d& T_cur_prev, const std::vector<cv::Point3f>& object,
+            const std::vector<cv::Point2f>& image, const core::PinholeCamera& camera,
+            double tolerance)
+{
+    int n = 0;
+    for (size_t k = 0; k < object.size(); ++k)
+    {
+        const Eigen::Vector3d X =
+            T_cur_prev * Eigen::Vector3d(object[k].x, object[k].y, object[k].z);
+        if (X.z() <= 0.05)
+            continue;
+        const double du = camera.fx * X.x() / X.z() + camera.cx - image[k].x;
+        const double dv = camera.fy * X.y() / X.z() + camera.cy - image[k].y;
+        n += du * du + dv * dv <= tolerance * tolerance ? 1 : 0;
+    }
+    return n;
 }
 }  // namespace
 
@@ -54,7 +97,7 @@ EgoMotion estimateEgoMotionFivePoint(const features::FeatureSet& previous,
     EgoMotion out;
     if (previous.size() < 8 || current.size() < 8)
         return out;
-    const auto matches = frameToFrameMatches(previous, current, camera, params);
+    const auto matches = frameToFrameMatches(previous, current, camera, params, {});
     out.matches = static_cast<int>(matches.size());
     if (matches.size() < 8)
         return out;
@@ -157,34 +200,51 @@ EgoMotion estimateEgoMotionDepthPnp(const features::FeatureSet& previous,
                                     const features::FeatureSet& current,
                                     const core::PinholeCamera& camera,
                                     const DynamicParameters& params, bool refine,
-                                    const std::vector<bool>& previous_dynamic)
+                                    const std::vector<bool>& previous_dynamic,
+                                    const std::optional<Eigen::Isometry3d>& prior)
 {
     EgoMotion out;
-    if (previous.size() < 12 || current.size() < 12)
-        return out;
-    auto matches = frameToFrameMatches(previous, current, camera, params, params.ego_max_queries);
-    if (previous_dynamic.size() == previous.size())
-        matches.erase(std::remove_if(matches.begin(), matches.end(),
-                                     [&](const features::DescriptorMatch& m)
-                                     { return previous_dynamic[m.train]; }),
-                      matches.end());
-    out.matches = static_cast<int>(matches.size());
+    // 3D points of the previous frame (from its depth) and where the current frame sees them.
     std::vector<cv::Point3f> object;
     std::vector<cv::Point2f> image;
-    for (const auto& m : matches)
+    auto addMatches = [&](const std::vector<size_t>& rows)
     {
-        const float z = previous.depth.empty() ? 0.0F : previous.depth[m.train];
-        if (z <= 0.0F)
-            continue;
-        const auto& p = previous.undistorted[m.train];
-        const Eigen::Vector3d X = camera.unproject(p.x, p.y, static_cast<double>(z));
-        object.emplace_back(static_cast<float>(X.x()), static_cast<float>(X.y()),
-                            static_cast<float>(X.z()));
-        image.push_back(current.undistorted[m.query]);
-    }
+        const auto matches =
+            frameToFrameMatches(previous, current, camera, params, rows, previous_dynamic);
+        out.matches += static_cast<int>(matches.size());
+        for (const auto& m : matches)
+        {
+            const float z = previous.depth.empty() ? 0.0F : previous.depth[m.train];
+            if (z <= 0.0F)
+                continue;
+            const auto& p = previous.undistorted[m.train];
+            const Eigen::Vector3d X = camera.unproject(p.x, p.y, static_cast<double>(z));
+            object.emplace_back(static_cast<float>(X.x()), static_cast<float>(X.y()),
+                                static_cast<float>(X.z()));
+            image.push_back(current.undistorted[m.query]);
+        }
+    };
+    const auto [first, rest] = splitQueries(current.size(), params.ego_max_queries);
+    addMatches(first);
+    // Where movers fill much of the view, most of the first queries land on them and find
+    // nothing among the previous static keypoints: query the others too.
+    constexpr size_t kEnoughMatches = 60;
+    if (object.size() < kEnoughMatches && !rest.empty())
+        addMatches(rest);
     out.scaleSamples = static_cast<int>(object.size());
-    if (object.size() < 12)
+    // The prior (the previous frame's motion) competes with the RANSAC solution: the one more
+    // matches agree with, within 3 x pnp_threshold, wins. It stands in where RANSAC fails.
+    const double tolerance = 3.0 * params.pnp_threshold;
+    auto usePrior = [&]()
+    {
+        out.T_cur_prev = *prior;
+        out.inliers = support(*prior, object, image, camera, tolerance);
+        out.fromPrior = true;
+        out.valid = true;
         return out;
+    };
+    if (object.size() < 12)
+        return prior ? usePrior() : out;
     const cv::Mat K = camera.cameraMatrix();
     cv::Mat rvec, tvec;
     std::vector<int> inliers;
@@ -192,7 +252,7 @@ EgoMotion estimateEgoMotionDepthPnp(const features::FeatureSet& previous,
                             static_cast<float>(params.pnp_threshold), 0.99, inliers,
                             cv::SOLVEPNP_EPNP) ||
         inliers.size() < 12)
-        return out;
+        return prior ? usePrior() : out;
     std::vector<cv::Point3f> inObject;
     std::vector<cv::Point2f> inImage;
     for (int i : inliers)
@@ -212,6 +272,17 @@ EgoMotion estimateEgoMotionDepthPnp(const features::FeatureSet& previous,
     }
     out.inliers = static_cast<int>(inliers.size());
     out.valid = true;
+    if (!prior)
+        return out;
+    const int priorSupport = support(*prior, object, image, camera, tolerance);
+    const int ransacSupport = support(out.T_cur_prev, object, image, camera, tolerance);
+    const Eigen::Isometry3d change = prior->inverse() * out.T_cur_prev;
+    const double degrees = Eigen::AngleAxisd(change.linear()).angle() * 180.0 / M_PI;
+    const bool gated = params.ego_gate_translation > 0.0 && params.ego_gate_rotation_deg > 0.0;
+    const bool plausible = !gated || (change.translation().norm() <= params.ego_gate_translation &&
+                                      degrees <= params.ego_gate_rotation_deg);
+    if (plausible ? priorSupport > ransacSupport : 4 * priorSupport >= ransacSupport)
+        return usePrior();
     return out;
 }
 }  // namespace smap::dynamic

@@ -7,6 +7,7 @@
 #include <deque>
 #include <functional>
 #include <opencv2/core/mat.hpp>
+#include <optional>
 #include <vector>
 
 #include "smap/core/PinholeCamera.h"
@@ -32,6 +33,10 @@ struct KeypointEvidence
     bool region = false;  ///< most depth-similar neighbours are dynamic
     /// Flow said dynamic, but the depth-similar neighbours are mostly static: overruled.
     bool isolated = false;
+    /// Temporal evidence (strong mode): where Lucas-Kanade found the keypoint in the reference
+    /// frame, most of that frame's keypoints within 8 px were dynamic. Such keypoints neither
+    /// refine the ego-motion nor set the adaptive tau; alone they decide nothing.
+    bool wasDynamic = false;
 };
 
 struct DynamicResult
@@ -64,7 +69,11 @@ public:
     /// frame, and every frame in mode "off", has no dynamic keypoints.
     DynamicResult process(const cv::Mat& colour, const cv::Mat& depth,
                           const features::FeatureSet& features, const core::PinholeCamera& camera);
-    void reset() { history_.clear(); }
+    void reset()
+    {
+        history_.clear();
+        lastMotion_.reset();
+    }
 
     const DynamicParameters& parameters() const { return params_; }
 
@@ -78,6 +87,11 @@ private:
                        const core::PinholeCamera& camera, const Stopwatch& lap,
                        DynamicResult& result) const;
     void decideStrong(const features::FeatureSet& features, DynamicResult& result) const;
+    /// Per current keypoint, whether the reference frame's keypoints around where it was there
+    /// (its Lucas-Kanade track, else its prediction) were mostly dynamic.
+    std::vector<bool> dynamicBefore(const std::vector<uint8_t>& status,
+                                    const std::vector<cv::Point2f>& tracked,
+                                    const std::vector<cv::Point2f>& predicted) const;
 
     /// A frame kept for comparison with later ones.
     struct PastFrame
@@ -97,5 +111,9 @@ private:
     DynamicParameters params_;
     std::deque<PastFrame> history_;  ///< oldest first, at most frame_gap (paper: 1)
     std::vector<cv::Mat> currentPyramid_;
+    /// Strong mode: the last evaluated frame's ego-motion and how many frames back its
+    /// reference was; the next frame with the same gap starts from it (constant velocity).
+    std::optional<Eigen::Isometry3d> lastMotion_;
+    size_t lastFramesBack_ = 0;
 };
 }  // namespace smap::dynamic

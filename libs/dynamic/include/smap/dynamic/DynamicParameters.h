@@ -46,6 +46,13 @@ struct DynamicParameters : public mrpt::config::CLoadableOptions
     /// The depth-PnP ego-motion matches at most this many current keypoints (spread evenly;
     /// 0 = all): a few hundred matches fix a 6-DoF pose, and matching is the costly part.
     int ego_max_queries = 250;
+    /// Constant-velocity gate on the ego-motion: a RANSAC pose that differs from the previous
+    /// frame's motion by more than this (m, degrees) is a hand-held camera's impossible jump
+    /// in frame_gap frames, usually movers outvoting the background; the previous motion is
+    /// kept instead (and refined by the flow), unless it has under a quarter of the RANSAC
+    /// pose's support (then the prior was the wrong one). 0 = no gate.
+    double ego_gate_translation = 0.03;
+    double ego_gate_rotation_deg = 3.0;
     /// Adaptive tau = clamp(median + tau_sigmas x 1.4826 MAD of the frame's residual flows,
     /// tau_min, tau).
     double tau_min = 2.0;

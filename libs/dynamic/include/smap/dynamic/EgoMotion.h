@@ -3,6 +3,7 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <optional>
 #include <vector>
 
 #include "smap/core/PinholeCamera.h"
@@ -16,9 +17,10 @@ struct EgoMotion
     bool valid = false;
     /// Maps points from the previous camera's optical frame into the current one's.
     Eigen::Isometry3d T_cur_prev = Eigen::Isometry3d::Identity();
-    int matches = 0;       ///< descriptor matches fed to RANSAC
-    int inliers = 0;       ///< RANSAC inliers
-    int scaleSamples = 0;  ///< matches the metric scale was taken from
+    int matches = 0;         ///< descriptor matches fed to RANSAC
+    int inliers = 0;         ///< RANSAC inliers
+    int scaleSamples = 0;    ///< matches the metric scale was taken from (depth PnP: with depth)
+    bool fromPrior = false;  ///< depth PnP: the prior won over (or stood in for) RANSAC
 };
 
 /// Five-point RANSAC on ratio-test descriptor matches (undistorted pixels), the relative pose
@@ -32,12 +34,17 @@ EgoMotion estimateEgoMotionFivePoint(const features::FeatureSet& previous,
 /// Beyond the paper: the same matches, but the previous keypoints' depth makes them 3D points
 /// and EPnP-RANSAC (`pnp_threshold` px) gives a metric pose directly, refined on the inliers
 /// by iterative PnP when `refine`. Better conditioned than the five-point method over a short
-/// baseline. Matches at most `ego_max_queries` current keypoints; previous keypoints marked in
-/// `previous_dynamic` (when it has one entry per previous keypoint) are left out. Invalid with
-/// fewer than 12 matches with depth or 12 inliers.
+/// baseline. Matches at most `ego_max_queries` current keypoints (all of them when those give
+/// fewer than 60 matches with depth); previous keypoints marked in `previous_dynamic` (when it
+/// has one entry per previous keypoint) are never matched, so that movers filling most of the
+/// view cannot outvote the background. A `prior` motion (e.g. the previous frame's) competes
+/// with the RANSAC pose: the one that more matches reproject within 3 x pnp_threshold
+/// of wins, and the prior stands in when RANSAC fails (`fromPrior`). Without a prior, invalid
+/// with fewer than 12 matches with depth or 12 inliers.
 EgoMotion estimateEgoMotionDepthPnp(const features::FeatureSet& previous,
                                     const features::FeatureSet& current,
                                     const core::PinholeCamera& camera,
                                     const DynamicParameters& params, bool refine = true,
-                                    const std::vector<bool>& previous_dynamic = {});
+                                    const std::vector<bool>& previous_dynamic = {},
+                                    const std::optional<Eigen::Isometry3d>& prior = std::nullopt);
 }  // namespace smap::dynamic
