@@ -39,8 +39,8 @@ struct TrackerParameters : public mrpt::config::CLoadableOptions
     /// reanchor_after frames ahead), its depth gives new points, and tracking goes on from
     /// there (status "reanchored"). The camera has then usually moved into a part the map
     /// does not hold, where relocalisation cannot succeed. 0 = never (lost until relocalised,
-    /// as ORB-SLAM2 and the paper mode; see docs/tracking.md).
-    int reanchor_after = 2;
+    /// as ORB-SLAM2; the default, see docs/tracking.md).
+    int reanchor_after = 0;
     int optimisation_rounds = 4;       ///< pose-only optimisation: outlier rejection rounds
     int optimisation_iterations = 10;  ///< Levenberg-Marquardt iterations per round
 
