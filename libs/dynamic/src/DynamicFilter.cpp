@@ -94,6 +94,7 @@ DynamicResult DynamicFilter::process(const cv::Mat& colour, const cv::Mat& depth
             past.dynamic.resize(result.keypoints.size());
             for (size_t i = 0; i < result.keypoints.size(); ++i)
                 past.dynamic[i] = result.keypoints[i].dynamic;
+            past.cells = DecisionCells::count(features, past.dynamic, depth.cols, depth.rows);
         }
         history_.push_back(std::move(past));
         const size_t keep = strong ? static_cast<size_t>(params_.frame_gap) : 1;
@@ -383,28 +384,48 @@ std::vector<bool> DynamicFilter::dynamicBefore(const std::vector<uint8_t>& statu
                                                const std::vector<cv::Point2f>& predicted) const
 {
     std::vector<bool> out(tracked.size(), false);
-    const PastFrame& ref = reference();
-    if (ref.dynamic.size() != ref.features.size() || ref.features.size() == 0)
+    const DecisionCells& cells = reference().cells;
+    if (cells.all.empty())
         return out;
-    std::vector<cv::Point2f> pts;
-    pts.reserve(ref.features.size());
-    for (const auto& kp : ref.features.keypoints)
-        pts.push_back(kp.pt);
-    const std::vector<int> levels(pts.size(), 0);
-    const features::FeatureGrid grid(pts, levels, ref.depth.cols, ref.depth.rows, 16);
-    constexpr float kRadius = 8.0F;
     for (size_t i = 0; i < tracked.size(); ++i)
     {
         const cv::Point2f& q = status[i] != 0 ? tracked[i] : predicted[i];
+        const int cx = static_cast<int>(std::floor(q.x / DecisionCells::kCell));
+        const int cy = static_cast<int>(std::floor(q.y / DecisionCells::kCell));
         int dyn = 0, all = 0;
-        for (size_t j : grid.query(q.x, q.y, kRadius))
+        for (int y = std::max(0, cy - 1); y <= std::min(cells.rows - 1, cy + 1); ++y)
         {
-            all++;
-            dyn += ref.dynamic[j] ? 1 : 0;
+            for (int x = std::max(0, cx - 1); x <= std::min(cells.cols - 1, cx + 1); ++x)
+            {
+                const auto k = static_cast<size_t>(y * cells.cols + x);
+                dyn += cells.dynamic[k];
+                all += cells.all[k];
+            }
         }
         out[i] = 2 * dyn > all;
     }
     return out;
+}
+
+DynamicFilter::DecisionCells DynamicFilter::DecisionCells::count(
+    const features::FeatureSet& features, const std::vector<bool>& dynamic, int width, int height)
+{
+    DecisionCells c;
+    c.cols = (width + kCell - 1) / kCell;
+    c.rows = (height + kCell - 1) / kCell;
+    c.all.assign(static_cast<size_t>(c.cols * c.rows), 0);
+    c.dynamic.assign(c.all.size(), 0);
+    for (size_t i = 0; i < features.size() && i < dynamic.size(); ++i)
+    {
+        const int x =
+            std::clamp(static_cast<int>(features.keypoints[i].pt.x) / kCell, 0, c.cols - 1);
+        const int y =
+            std::clamp(static_cast<int>(features.keypoints[i].pt.y) / kCell, 0, c.rows - 1);
+        const auto k = static_cast<size_t>(y * c.cols + x);
+        c.all[k]++;
+        c.dynamic[k] += dynamic[i] ? 1 : 0;
+    }
+    return c;
 }
 
 void DynamicFilter::decideStrong(const features::FeatureSet& features, DynamicResult& result) const

@@ -34,8 +34,9 @@ struct KeypointEvidence
     /// Flow said dynamic, but the depth-similar neighbours are mostly static: overruled.
     bool isolated = false;
     /// Temporal evidence (strong mode): where Lucas-Kanade found the keypoint in the reference
-    /// frame, most of that frame's keypoints within 8 px were dynamic. Such keypoints neither
-    /// refine the ego-motion nor set the adaptive tau; alone they decide nothing.
+    /// frame, most of that frame's keypoints in the 3 x 3 cells of 8 px around were dynamic.
+    /// Such keypoints neither refine the ego-motion nor set the adaptive tau; alone they
+    /// decide nothing.
     bool wasDynamic = false;
 };
 
@@ -88,10 +89,23 @@ private:
                        DynamicResult& result) const;
     void decideStrong(const features::FeatureSet& features, DynamicResult& result) const;
     /// Per current keypoint, whether the reference frame's keypoints around where it was there
-    /// (its Lucas-Kanade track, else its prediction) were mostly dynamic.
+    /// (its Lucas-Kanade track, else its prediction; within the 3 x 3 cells of 8 px) were
+    /// mostly dynamic.
     std::vector<bool> dynamicBefore(const std::vector<uint8_t>& status,
                                     const std::vector<cv::Point2f>& tracked,
                                     const std::vector<cv::Point2f>& predicted) const;
+
+    /// A frame's decisions counted per 8 px cell: where a later frame's keypoint was, the
+    /// 3 x 3 cells around it say whether it was among movers (temporal evidence).
+    struct DecisionCells
+    {
+        static constexpr int kCell = 8;
+        int cols = 0, rows = 0;
+        std::vector<int> all, dynamic;  ///< keypoints and dynamic keypoints per cell, row-major
+
+        static DecisionCells count(const features::FeatureSet& features,
+                                   const std::vector<bool>& dynamic, int width, int height);
+    };
 
     /// A frame kept for comparison with later ones.
     struct PastFrame
@@ -103,6 +117,7 @@ private:
         /// Its keypoints' decisions (strong; empty when not evaluated): the ego-motion of a
         /// later frame leaves them out, so that people filling half the view do not pull it.
         std::vector<bool> dynamic;
+        DecisionCells cells;  ///< `dynamic` per cell (empty with it)
     };
     /// The frame the current one is compared with: the previous one (paper), or frame_gap
     /// frames back (strong; fewer at the start).
