@@ -397,7 +397,8 @@ std::vector<bool> DynamicFilter::dynamicBefore(const std::vector<uint8_t>& statu
         {
             for (int x = std::max(0, cx - 1); x <= std::min(cells.cols - 1, cx + 1); ++x)
             {
-                const auto k = static_cast<size_t>(y * cells.cols + x);
+                const auto k = static_cast<size_t>(y) * static_cast<size_t>(cells.cols) +
+                               static_cast<size_t>(x);
                 dyn += cells.dynamic[k];
                 all += cells.all[k];
             }
@@ -413,7 +414,7 @@ DynamicFilter::DecisionCells DynamicFilter::DecisionCells::count(
     DecisionCells c;
     c.cols = (width + kCell - 1) / kCell;
     c.rows = (height + kCell - 1) / kCell;
-    c.all.assign(static_cast<size_t>(c.cols * c.rows), 0);
+    c.all.assign(static_cast<size_t>(c.cols) * static_cast<size_t>(c.rows), 0);
     c.dynamic.assign(c.all.size(), 0);
     for (size_t i = 0; i < features.size() && i < dynamic.size(); ++i)
     {
@@ -421,7 +422,8 @@ DynamicFilter::DecisionCells DynamicFilter::DecisionCells::count(
             std::clamp(static_cast<int>(features.keypoints[i].pt.x) / kCell, 0, c.cols - 1);
         const int y =
             std::clamp(static_cast<int>(features.keypoints[i].pt.y) / kCell, 0, c.rows - 1);
-        const auto k = static_cast<size_t>(y * c.cols + x);
+        const auto k =
+            static_cast<size_t>(y) * static_cast<size_t>(c.cols) + static_cast<size_t>(x);
         c.all[k]++;
         c.dynamic[k] += dynamic[i] ? 1 : 0;
     }
