@@ -1,5 +1,6 @@
 #include "smap/slam/ProjectionSearch.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <unordered_set>
@@ -16,6 +17,8 @@ namespace
 {
 constexpr double kChi2Stereo = 7.815;
 constexpr double kChi2Mono = 5.991;
+/// Keypoints within this many pixels of a projected map point say whether a mover hides it.
+constexpr float kOccluderRadius = 12.0F;
 
 bool alreadyMatched(const std::shared_ptr<MapPoint>& p)
 {
@@ -98,6 +101,24 @@ int searchLocalPoints(Frame& frame, const std::vector<std::shared_ptr<MapPoint>>
 {
     const Eigen::Vector3d centre = frame.T_cam_world.inverse().translation();
     const auto& pyr = frame.features.pyramid;
+    const bool anyExcluded =
+        std::any_of(frame.weights.begin(), frame.weights.end(), [](float w) { return w <= 0.0F; });
+    // Behind a mover: most keypoints around the projection are excluded (weight 0). Such a
+    // point cannot be seen now, and must not count as "visible but not found", or people
+    // walking in front of the background would get its map points culled.
+    auto hiddenByMover = [&](const Eigen::Vector2d& uv)
+    {
+        if (!anyExcluded)
+            return false;
+        int excluded = 0, all = 0;
+        for (size_t j : frame.grid.query(static_cast<float>(uv.x()), static_cast<float>(uv.y()),
+                                         kOccluderRadius))
+        {
+            all++;
+            excluded += frame.usable(j) ? 0 : 1;
+        }
+        return 2 * excluded > all;
+    };
     int n = 0;
     for (const auto& mp : points)
     {
@@ -112,7 +133,7 @@ int searchLocalPoints(Frame& frame, const std::vector<std::shared_ptr<MapPoint>>
         if (dist < mp->minDistance() || dist > mp->maxDistance())
             continue;
         const double viewCos = ray.dot(mp->normal()) / dist;
-        if (viewCos < 0.5)
+        if (viewCos < 0.5 || hiddenByMover(uv))
             continue;
         mp->increaseVisible();
         const int level = mp->predictLevel(dist, pyr);
