@@ -22,6 +22,13 @@ TEST(DescriptorDistance, CountsDifferingBits)
     EXPECT_EQ(descriptorDistance(a, b), 8 + 1 + 2);
     std::fill(std::begin(b), std::end(b), 0xFF);
     EXPECT_EQ(descriptorDistance(a, b), 256);
+    // Random descriptors against OpenCV's Hamming norm.
+    cv::Mat d(200, 32, CV_8UC1);
+    cv::randu(d, 0, 256);
+    for (int i = 0; i + 1 < d.rows; ++i)
+        EXPECT_EQ(descriptorDistance(d.ptr<uint8_t>(i), d.ptr<uint8_t>(i + 1)),
+                  static_cast<int>(cv::norm(d.row(i), d.row(i + 1), cv::NORM_HAMMING)))
+            << i;
 }
 
 TEST(MatchWithRatioTest, FindsPlantedMatchesAndRejectsAmbiguousOnes)

@@ -1,7 +1,5 @@
 #include "smap/features/FeatureGrid.h"
 
-#include <algorithm>
-#include <cmath>
 #include <utility>
 
 namespace smap::features
@@ -11,46 +9,33 @@ FeatureGrid::FeatureGrid(std::vector<cv::Point2f> points, std::vector<int> level
     : cols_(std::max(1, (width + cell - 1) / cell)),
       rows_(std::max(1, (height + cell - 1) / cell)),
       invCell_(1.0F / static_cast<float>(cell)),
-      cells_(static_cast<size_t>(cols_) * static_cast<size_t>(rows_)),
       points_(std::move(points)),
       levels_(std::move(levels))
 {
+    const size_t numCells = static_cast<size_t>(cols_) * static_cast<size_t>(rows_);
+    std::vector<size_t> cellOf(points_.size());
+    cellStart_.assign(numCells + 1, 0);
     for (size_t i = 0; i < points_.size(); ++i)
     {
         const int cx = std::clamp(static_cast<int>(points_[i].x * invCell_), 0, cols_ - 1);
         const int cy = std::clamp(static_cast<int>(points_[i].y * invCell_), 0, rows_ - 1);
-        cells_[static_cast<size_t>(cy) * static_cast<size_t>(cols_) + static_cast<size_t>(cx)]
-            .push_back(i);
+        cellOf[i] = static_cast<size_t>(cy) * static_cast<size_t>(cols_) + static_cast<size_t>(cx);
+        cellStart_[cellOf[i] + 1]++;
     }
+    for (size_t c = 0; c < numCells; ++c)
+        cellStart_[c + 1] += cellStart_[c];
+    // Counting sort: within a cell, increasing index order.
+    items_.resize(points_.size());
+    std::vector<size_t> next(cellStart_.begin(), cellStart_.end() - 1);
+    for (size_t i = 0; i < points_.size(); ++i)
+        items_[next[cellOf[i]]++] = i;
 }
 
 std::vector<size_t> FeatureGrid::query(float u, float v, float radius, int min_level,
                                        int max_level) const
 {
     std::vector<size_t> out;
-    if (cells_.empty())
-        return out;
-    const int x0 = std::max(0, static_cast<int>(std::floor((u - radius) * invCell_)));
-    const int x1 = std::min(cols_ - 1, static_cast<int>(std::floor((u + radius) * invCell_)));
-    const int y0 = std::max(0, static_cast<int>(std::floor((v - radius) * invCell_)));
-    const int y1 = std::min(rows_ - 1, static_cast<int>(std::floor((v + radius) * invCell_)));
-    for (int cy = y0; cy <= y1; ++cy)
-    {
-        for (int cx = x0; cx <= x1; ++cx)
-        {
-            for (size_t i : cells_[static_cast<size_t>(cy) * static_cast<size_t>(cols_) +
-                                   static_cast<size_t>(cx)])
-            {
-                const cv::Point2f& p = points_[i];
-                if (std::abs(p.x - u) > radius || std::abs(p.y - v) > radius)
-                    continue;
-                const int l = levels_[i];
-                if ((min_level >= 0 && l < min_level) || (max_level >= 0 && l > max_level))
-                    continue;
-                out.push_back(i);
-            }
-        }
-    }
+    forEachNear(u, v, radius, min_level, max_level, [&out](size_t i) { out.push_back(i); });
     return out;
 }
 }  // namespace smap::features
