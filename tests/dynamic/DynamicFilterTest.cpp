@@ -9,6 +9,7 @@
 
 #include "TestData.h"
 #include "smap/dynamic/DynamicFilter.h"
+#include "smap/dynamic/EgoMotion.h"
 #include "smap/dynamic/FrameWarp.h"
 #include "smap/features/OrbExtractor.h"
 #include "smap/sim/SequenceGenerator.h"
@@ -189,6 +190,45 @@ TEST(EgoMotion, DepthPnpMatchesTheTrueRelativePoseOverAShortBaseline)
         EXPECT_LT(rotationError(ego.T_cur_prev, truth), 0.15 * M_PI / 180.0) << first;
         EXPECT_GT(ego.inliers, 100);
     }
+}
+
+// Gauss-Newton pose refinement: from a pose 5 cm and 3 degrees off, exact pixels give the
+// true pose back; too few pairs or a point behind the camera give nothing.
+TEST(EgoMotion, RefinePoseRecoversTheTruePoseFromExactPixels)
+{
+    core::PinholeCamera cam;
+    cam.width = 640;
+    cam.height = 480;
+    cam.fx = cam.fy = 525.0;
+    cam.cx = 319.5;
+    cam.cy = 239.5;
+    Eigen::Isometry3d truth = Eigen::Isometry3d::Identity();
+    truth.linear() =
+        Eigen::AngleAxisd(0.1, Eigen::Vector3d(0.2, 1.0, 0.1).normalized()).toRotationMatrix();
+    truth.translation() = Eigen::Vector3d(0.12, -0.05, 0.08);
+    std::vector<Eigen::Vector3d> points;
+    std::vector<Eigen::Vector2d> pixels;
+    for (int k = 0; k < 50; ++k)
+    {
+        const Eigen::Vector3d X(-1.0 + 0.04 * k, 0.5 * std::sin(k), 1.5 + 0.05 * (k % 9));
+        points.push_back(X);
+        pixels.push_back(cam.project(truth * X));
+    }
+    Eigen::Isometry3d start = truth;
+    start.translation() += Eigen::Vector3d(0.03, -0.03, 0.03);
+    start.linear() =
+        Eigen::AngleAxisd(3.0 * M_PI / 180.0, Eigen::Vector3d::UnitX()) * start.linear();
+    const auto refined = dynamic::refinePose(points, pixels, cam, start);
+    ASSERT_TRUE(refined.has_value());
+    EXPECT_LT(translationError(*refined, truth), 1e-6);
+    EXPECT_LT(rotationError(*refined, truth), 1e-6);
+    EXPECT_GT(translationError(start, truth), 0.05);
+
+    const std::vector<Eigen::Vector3d> five(points.begin(), points.begin() + 5);
+    const std::vector<Eigen::Vector2d> fivePixels(pixels.begin(), pixels.begin() + 5);
+    EXPECT_FALSE(dynamic::refinePose(five, fivePixels, cam, start).has_value());
+    points[3].z() = -2.0;
+    EXPECT_FALSE(dynamic::refinePose(points, pixels, cam, start).has_value());
 }
 
 // People filling most of the view: 70 % of the matches move together. Left to RANSAC they

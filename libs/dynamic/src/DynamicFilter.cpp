@@ -87,7 +87,7 @@ DynamicResult DynamicFilter::process(const cv::Mat& colour, const cv::Mat& depth
         past.grey = grey;
         past.pyramid = std::move(currentPyramid_);
         currentPyramid_.clear();
-        past.depth = depth.clone();
+        past.depth = depth;
         past.features = features;
         if (result.evaluated && strong)
         {
@@ -232,6 +232,17 @@ void DynamicFilter::processStrong(const cv::Mat& depth, const features::FeatureS
                                               static_cast<float>(X.z()))
                                 : cv::Point3f(1e4F, 1e4F, 1.0F);
         }
+        if (!camera.hasDistortion())
+        {
+            out.resize(n);
+            for (size_t i = 0; i < n; ++i)
+            {
+                const Eigen::Vector2d uv = camera.project(
+                    Eigen::Vector3d(inPrevious[i].x, inPrevious[i].y, inPrevious[i].z));
+                out[i] = cv::Point2f(static_cast<float>(uv.x()), static_cast<float>(uv.y()));
+            }
+            return;
+        }
         cv::projectPoints(inPrevious, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0), camera.cameraMatrix(),
                           camera.distCoeffs(), out);
     };
@@ -318,34 +329,22 @@ void DynamicFilter::processStrong(const cv::Mat& depth, const features::FeatureS
             object.resize(kMaxRefinePoints);
             image.resize(kMaxRefinePoints);
         }
+        if (camera.hasDistortion())
+            cv::undistortPoints(image, image, camera.cameraMatrix(), camera.distCoeffs(),
+                                cv::noArray(), camera.cameraMatrix());
+        std::vector<Eigen::Vector3d> points(object.size());
+        std::vector<Eigen::Vector2d> pixels(image.size());
+        for (size_t k = 0; k < object.size(); ++k)
         {
-            if (camera.hasDistortion())
-                cv::undistortPoints(image, image, camera.cameraMatrix(), camera.distCoeffs(),
-                                    cv::noArray(), camera.cameraMatrix());
-            const Eigen::Isometry3d T_prev_cur = result.egoMotion.T_cur_prev.inverse();
-            cv::Mat R(3, 3, CV_64F), rvec, tvec(3, 1, CV_64F);
-            for (int r = 0; r < 3; ++r)
-            {
-                for (int c = 0; c < 3; ++c)
-                    R.at<double>(r, c) = T_prev_cur.linear()(r, c);
-                tvec.at<double>(r) = T_prev_cur.translation()(r);
-            }
-            cv::Rodrigues(R, rvec);
-            if (cv::solvePnP(object, image, camera.cameraMatrix(), cv::noArray(), rvec, tvec, true,
-                             cv::SOLVEPNP_ITERATIVE))
-            {
-                cv::Rodrigues(rvec, R);
-                Eigen::Isometry3d refined = Eigen::Isometry3d::Identity();
-                for (int r = 0; r < 3; ++r)
-                {
-                    for (int c = 0; c < 3; ++c)
-                        refined.linear()(r, c) = R.at<double>(r, c);
-                    refined.translation()(r) = tvec.at<double>(r);
-                }
-                result.egoMotion.T_cur_prev = refined.inverse();
-                predict(result.egoMotion.T_cur_prev);
-            }
+            points[k] = Eigen::Vector3d(object[k].x, object[k].y, object[k].z);
+            pixels[k] = Eigen::Vector2d(image[k].x, image[k].y);
         }
+        const auto T_prev_cur =
+            refinePose(points, pixels, camera, result.egoMotion.T_cur_prev.inverse());
+        if (!T_prev_cur)
+            break;
+        result.egoMotion.T_cur_prev = T_prev_cur->inverse();
+        predict(result.egoMotion.T_cur_prev);
     }
 
     const int w = reference().depth.cols, h = reference().depth.rows;

@@ -1,5 +1,6 @@
 #include "smap/dynamic/EgoMotion.h"
 
+#include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
 #include <opencv2/calib3d.hpp>
@@ -22,27 +23,33 @@ double median(std::vector<double>& v)
 
 namespace
 {
-/// Ratio-test matches of current keypoints (query) to previous ones (train) within
-/// match_radius. `rows`: the current keypoints to query (empty: all). Previous keypoints marked
-/// in `excluded` (one entry per previous keypoint, or empty) are never matched.
-std::vector<features::DescriptorMatch> frameToFrameMatches(const features::FeatureSet& previous,
-                                                           const features::FeatureSet& current,
-                                                           const core::PinholeCamera& camera,
-                                                           const DynamicParameters& params,
-                                                           const std::vector<size_t>& rows,
-                                                           const std::vector<bool>& excluded = {})
+/// The previous keypoints in a grid for radius queries (32 px cells: the match radius is
+/// large). Keypoints marked in `excluded` (one entry per previous keypoint, or empty) are moved
+/// far outside the image, so that no query radius reaches them.
+features::FeatureGrid previousGrid(const features::FeatureSet& previous,
+                                   const core::PinholeCamera& camera,
+                                   const std::vector<bool>& excluded = {})
 {
     std::vector<int> levels;
     levels.reserve(previous.size());
     for (const auto& kp : previous.keypoints)
         levels.push_back(kp.octave);
     std::vector<cv::Point2f> points = previous.undistorted;
-    // An excluded keypoint is moved far outside the image: no query radius reaches it.
     if (excluded.size() == points.size())
         for (size_t i = 0; i < points.size(); ++i)
             if (excluded[i])
                 points[i] = cv::Point2f(-1e6F, -1e6F);
-    const features::FeatureGrid grid(std::move(points), levels, camera.width, camera.height);
+    return {std::move(points), std::move(levels), camera.width, camera.height, 32};
+}
+
+/// Ratio-test matches of current keypoints (query) to previous ones (train, in `grid`) within
+/// match_radius. `rows`: the current keypoints to query (empty: all).
+std::vector<features::DescriptorMatch> frameToFrameMatches(const features::FeatureSet& previous,
+                                                           const features::FeatureGrid& grid,
+                                                           const features::FeatureSet& current,
+                                                           const DynamicParameters& params,
+                                                           const std::vector<size_t>& rows)
+{
     return features::matchWithinRadius(
         current.descriptors, current.keypoints, current.undistorted, previous.descriptors, grid,
         static_cast<float>(params.match_radius), static_cast<float>(params.match_ratio), 64, rows);
@@ -97,7 +104,8 @@ EgoMotion estimateEgoMotionFivePoint(const features::FeatureSet& previous,
     EgoMotion out;
     if (previous.size() < 8 || current.size() < 8)
         return out;
-    const auto matches = frameToFrameMatches(previous, current, camera, params, {});
+    const auto matches =
+        frameToFrameMatches(previous, previousGrid(previous, camera), current, params, {});
     out.matches = static_cast<int>(matches.size());
     if (matches.size() < 8)
         return out;
@@ -207,10 +215,10 @@ EgoMotion estimateEgoMotionDepthPnp(const features::FeatureSet& previous,
     // 3D points of the previous frame (from its depth) and where the current frame sees them.
     std::vector<cv::Point3f> object;
     std::vector<cv::Point2f> image;
+    const features::FeatureGrid grid = previousGrid(previous, camera, previous_dynamic);
     auto addMatches = [&](const std::vector<size_t>& rows)
     {
-        const auto matches =
-            frameToFrameMatches(previous, current, camera, params, rows, previous_dynamic);
+        const auto matches = frameToFrameMatches(previous, grid, current, params, rows);
         out.matches += static_cast<int>(matches.size());
         for (const auto& m : matches)
         {
@@ -250,18 +258,9 @@ EgoMotion estimateEgoMotionDepthPnp(const features::FeatureSet& previous,
     std::vector<int> inliers;
     if (!cv::solvePnPRansac(object, image, K, cv::noArray(), rvec, tvec, false, 100,
                             static_cast<float>(params.pnp_threshold), 0.99, inliers,
-                            cv::SOLVEPNP_EPNP) ||
+                            cv::SOLVEPNP_AP3P) ||
         inliers.size() < 12)
         return prior ? usePrior() : out;
-    std::vector<cv::Point3f> inObject;
-    std::vector<cv::Point2f> inImage;
-    for (int i : inliers)
-    {
-        inObject.push_back(object[static_cast<size_t>(i)]);
-        inImage.push_back(image[static_cast<size_t>(i)]);
-    }
-    if (refine)
-        cv::solvePnP(inObject, inImage, K, cv::noArray(), rvec, tvec, true, cv::SOLVEPNP_ITERATIVE);
     cv::Mat R;
     cv::Rodrigues(rvec, R);
     for (int r = 0; r < 3; ++r)
@@ -272,6 +271,36 @@ EgoMotion estimateEgoMotionDepthPnp(const features::FeatureSet& previous,
     }
     out.inliers = static_cast<int>(inliers.size());
     out.valid = true;
+    // With `refine`: re-select the inliers under the pose and fit it to all of them by
+    // least squares (Gauss-Newton), three rounds.
+    std::vector<Eigen::Vector3d> points;
+    std::vector<Eigen::Vector2d> pixels;
+    const double th2 = params.pnp_threshold * params.pnp_threshold;
+    for (int round = 0; refine && round < 3; ++round)
+    {
+        points.clear();
+        pixels.clear();
+        for (size_t k = 0; k < object.size(); ++k)
+        {
+            const Eigen::Vector3d X(object[k].x, object[k].y, object[k].z);
+            const Eigen::Vector3d P = out.T_cur_prev * X;
+            if (P.z() <= 0.05)
+                continue;
+            const Eigen::Vector2d uv(image[k].x, image[k].y);
+            if ((camera.project(P) - uv).squaredNorm() <= th2)
+            {
+                points.push_back(X);
+                pixels.push_back(uv);
+            }
+        }
+        if (points.size() < 12)
+            break;
+        out.inliers = static_cast<int>(points.size());
+        const auto fitted = refinePose(points, pixels, camera, out.T_cur_prev);
+        if (!fitted)
+            break;
+        out.T_cur_prev = *fitted;
+    }
     if (!prior)
         return out;
     const int priorSupport = support(*prior, object, image, camera, tolerance);
@@ -284,5 +313,61 @@ EgoMotion estimateEgoMotionDepthPnp(const features::FeatureSet& previous,
     if (plausible ? priorSupport > ransacSupport : 4 * priorSupport >= ransacSupport)
         return usePrior();
     return out;
+}
+
+std::optional<Eigen::Isometry3d> refinePose(const std::vector<Eigen::Vector3d>& points_source,
+                                            const std::vector<Eigen::Vector2d>& pixels_target,
+                                            const core::PinholeCamera& camera,
+                                            const Eigen::Isometry3d& T_target_source,
+                                            int max_iterations)
+{
+    if (points_source.size() != pixels_target.size() || points_source.size() < 6)
+        return std::nullopt;
+    Eigen::Isometry3d T = T_target_source;
+    for (int it = 0; it < max_iterations; ++it)
+    {
+        // Left perturbation T <- exp(delta) T, delta = (rotation w, translation v): a point
+        // P = T X moves by -[P]x w + v.
+        Eigen::Matrix<double, 6, 6> H = Eigen::Matrix<double, 6, 6>::Zero();
+        Eigen::Matrix<double, 6, 1> g = Eigen::Matrix<double, 6, 1>::Zero();
+        for (size_t k = 0; k < points_source.size(); ++k)
+        {
+            const Eigen::Vector3d P = T * points_source[k];
+            if (P.z() <= 1e-6)
+                return std::nullopt;
+            const double iz = 1.0 / P.z();
+            const Eigen::Vector2d r = camera.project(P) - pixels_target[k];
+            Eigen::Matrix<double, 2, 3> dproj;
+            dproj << camera.fx * iz, 0.0, -camera.fx * P.x() * iz * iz, 0.0, camera.fy * iz,
+                -camera.fy * P.y() * iz * iz;
+            Eigen::Matrix<double, 3, 6> dP;
+            dP.leftCols<3>() << 0.0, P.z(), -P.y(), -P.z(), 0.0, P.x(), P.y(), -P.x(), 0.0;
+            dP.rightCols<3>().setIdentity();
+            const Eigen::Matrix<double, 2, 6> J = dproj * dP;
+            H.noalias() += J.transpose() * J;
+            g.noalias() += J.transpose() * r;
+        }
+        const Eigen::LDLT<Eigen::Matrix<double, 6, 6>> ldlt(H);
+        if (ldlt.info() != Eigen::Success || !ldlt.isPositive())
+            return std::nullopt;
+        const Eigen::Matrix<double, 6, 1> delta = ldlt.solve(-g);
+        if (!delta.allFinite())
+            return std::nullopt;
+        const Eigen::Vector3d w = delta.head<3>();
+        const double angle = w.norm();
+        const Eigen::Matrix3d dR = angle > 1e-12
+                                       ? Eigen::AngleAxisd(angle, w / angle).toRotationMatrix()
+                                       : Eigen::Matrix3d::Identity();
+        Eigen::Isometry3d step = Eigen::Isometry3d::Identity();
+        step.linear() = dR;
+        step.translation() = delta.tail<3>();
+        T = step * T;
+        if (angle < 1e-9 && delta.tail<3>().norm() < 1e-9)
+            break;
+    }
+    // Keep the rotation orthonormal after the updates.
+    const Eigen::Quaterniond q(T.linear());
+    T.linear() = q.normalized().toRotationMatrix();
+    return T;
 }
 }  // namespace smap::dynamic

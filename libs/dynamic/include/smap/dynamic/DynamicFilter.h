@@ -67,7 +67,9 @@ public:
 
     /// Classifies the keypoints of a frame (colour BGR or grey, depth in metres, features
     /// with undistorted keypoints and depth) and remembers it as the previous frame. The first
-    /// frame, and every frame in mode "off", has no dynamic keypoints.
+    /// frame, and every frame in mode "off", has no dynamic keypoints. The filter keeps
+    /// `depth` for the next frames without copying it (cv::Mat shares the pixels): do not
+    /// write into it afterwards.
     DynamicResult process(const cv::Mat& colour, const cv::Mat& depth,
                           const features::FeatureSet& features, const core::PinholeCamera& camera);
     void reset()

@@ -42,7 +42,7 @@ struct DynamicParameters : public mrpt::config::CLoadableOptions
     /// less of a nearby mover into background points.
     int strong_lk_window = 11;
     int strong_lk_levels = 1;
-    double pnp_threshold = 2.0;  ///< EPnP-RANSAC inlier threshold (px)
+    double pnp_threshold = 2.0;  ///< PnP-RANSAC inlier threshold (px)
     /// The depth-PnP ego-motion matches at most this many current keypoints (spread evenly;
     /// 0 = all): a few hundred matches fix a 6-DoF pose, and matching is the costly part.
     int ego_max_queries = 250;

@@ -32,19 +32,31 @@ EgoMotion estimateEgoMotionFivePoint(const features::FeatureSet& previous,
                                      const core::PinholeCamera& camera,
                                      const DynamicParameters& params);
 /// Beyond the paper: the same matches, but the previous keypoints' depth makes them 3D points
-/// and EPnP-RANSAC (`pnp_threshold` px) gives a metric pose directly, refined on the inliers
-/// by iterative PnP when `refine`. Better conditioned than the five-point method over a short
-/// baseline. Matches at most `ego_max_queries` current keypoints (all of them when those give
-/// fewer than 60 matches with depth); previous keypoints marked in `previous_dynamic` (when it
-/// has one entry per previous keypoint) are never matched, so that movers filling most of the
-/// view cannot outvote the background. A `prior` motion (e.g. the previous frame's) competes
-/// with the RANSAC pose: the one that more matches reproject within 3 x pnp_threshold
-/// of wins, and the prior stands in when RANSAC fails (`fromPrior`). Without a prior, invalid
-/// with fewer than 12 matches with depth or 12 inliers.
+/// and PnP-RANSAC (AP3P minimal samples, `pnp_threshold` px) gives a metric pose directly;
+/// with `refine`, the inliers are then re-selected under the pose and the pose fitted to all
+/// of them (`refinePose`), three rounds. Better conditioned than the five-point
+/// method over a short baseline. Matches at most `ego_max_queries` current keypoints (all of
+/// them when those give fewer than 60 matches with depth); previous keypoints marked in
+/// `previous_dynamic` (when it has one entry per previous keypoint) are never matched, so that
+/// movers filling most of the view cannot outvote the background. A `prior` motion (e.g. the
+/// previous frame's) competes with the RANSAC pose: the one that more matches reproject within
+/// 3 x pnp_threshold of wins, and the prior stands in when RANSAC fails (`fromPrior`). Without
+/// a prior, invalid with fewer than 12 matches with depth or 12 inliers.
 EgoMotion estimateEgoMotionDepthPnp(const features::FeatureSet& previous,
                                     const features::FeatureSet& current,
                                     const core::PinholeCamera& camera,
                                     const DynamicParameters& params, bool refine = true,
                                     const std::vector<bool>& previous_dynamic = {},
                                     const std::optional<Eigen::Isometry3d>& prior = std::nullopt);
+
+/// Least-squares pose from 3D points (`points_source`, in a source camera's optical frame) and
+/// where a target camera sees them (`pixels_target`, undistorted pixels): Gauss-Newton on the
+/// squared reprojection error from `T_target_source`, at most `max_iterations` steps. Empty
+/// with fewer than 6 pairs, a point behind the camera or a singular system. A few hundred
+/// pairs take tens of microseconds, a fraction of cv::solvePnP's iterative solver.
+std::optional<Eigen::Isometry3d> refinePose(const std::vector<Eigen::Vector3d>& points_source,
+                                            const std::vector<Eigen::Vector2d>& pixels_target,
+                                            const core::PinholeCamera& camera,
+                                            const Eigen::Isometry3d& T_target_source,
+                                            int max_iterations = 10);
 }  // namespace smap::dynamic
