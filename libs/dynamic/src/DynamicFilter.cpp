@@ -30,6 +30,22 @@ size_t DynamicResult::numDynamic() const
     return n;
 }
 
+namespace
+{
+/// Depth range (m) a keypoint without any depth near it may have.
+constexpr double kUnknownNear = 0.3;
+constexpr double kUnknownFar = 100.0;
+
+float distanceToSegment(const cv::Point2f& p, const cv::Point2f& a, const cv::Point2f& b)
+{
+    const cv::Point2f ab = b - a;
+    const float len2 = ab.dot(ab);
+    const float t = len2 > 0.0F ? std::clamp((p - a).dot(ab) / len2, 0.0F, 1.0F) : 0.0F;
+    const cv::Point2f d = p - (a + t * ab);
+    return std::sqrt(d.dot(d));
+}
+}  // namespace
+
 DynamicFilter::DynamicFilter(const DynamicParameters& params) : params_(params) {}
 
 DynamicResult DynamicFilter::process(const cv::Mat& colour, const cv::Mat& depth,
@@ -178,8 +194,12 @@ void DynamicFilter::processStrong(const cv::Mat& depth, const features::FeatureS
     }
     // A keypoint without depth usually sits on a depth edge: it belongs to the nearer or the
     // farther surface around it, so both are tried (the nearest and farthest valid depth within
-    // 4 px) and the better-fitting one decides. Without any depth near, the frame's median.
+    // 4 px) and the better-fitting one decides. Without any depth near, the frame's median
+    // starts the flow, and the residual is the distance to the whole segment of predictions
+    // for depths kUnknownNear..kUnknownFar (for a static point of unknown depth only the
+    // epipolar direction is known).
     std::vector<cv::Point3f> X_cur(n), X_alt(n);
+    std::vector<size_t> unknownDepth;
     for (size_t i = 0; i < n; ++i)
     {
         float zNear = z[i], zFar = z[i];
@@ -202,7 +222,10 @@ void DynamicFilter::processStrong(const cv::Mat& depth, const features::FeatureS
                 }
             }
             if (zFar <= 0.0F)
+            {
                 zNear = zFar = fallbackDepth;
+                unknownDepth.push_back(i);
+            }
         }
         const auto& p = features.undistorted[i];
         auto toCv = [](const Eigen::Vector3d& X)
@@ -347,6 +370,36 @@ void DynamicFilter::processStrong(const cv::Mat& depth, const features::FeatureS
         predict(result.egoMotion.T_cur_prev);
     }
 
+    // The ends of the unknown-depth keypoints' prediction segments.
+    std::vector<cv::Point2f> segmentNear, segmentFar;
+    {
+        const Eigen::Isometry3d T_prev_cur = result.egoMotion.T_cur_prev.inverse();
+        std::vector<cv::Point3f> nearEnd, farEnd;
+        for (size_t i : unknownDepth)
+        {
+            const auto& p = features.undistorted[i];
+            for (const double zEnd : {kUnknownNear, kUnknownFar})
+            {
+                Eigen::Vector3d X = T_prev_cur * camera.unproject(p.x, p.y, zEnd);
+                if (X.z() <= 0.05)  // behind the reference camera: the median depth's point
+                    X = T_prev_cur * Eigen::Vector3d(X_cur[i].x, X_cur[i].y, X_cur[i].z);
+                (zEnd == kUnknownNear ? nearEnd : farEnd)
+                    .emplace_back(static_cast<float>(X.x()), static_cast<float>(X.y()),
+                                  static_cast<float>(X.z()));
+            }
+        }
+        if (!unknownDepth.empty())
+        {
+            cv::projectPoints(nearEnd, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0),
+                              camera.cameraMatrix(), camera.distCoeffs(), segmentNear);
+            cv::projectPoints(farEnd, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0), camera.cameraMatrix(),
+                              camera.distCoeffs(), segmentFar);
+        }
+    }
+    std::vector<int> unknownSlot(n, -1);
+    for (size_t k = 0; k < unknownDepth.size(); ++k)
+        unknownSlot[unknownDepth[k]] = static_cast<int>(k);
+
     const int w = reference().depth.cols, h = reference().depth.rows;
     for (size_t i = 0; i < n; ++i)
     {
@@ -373,6 +426,12 @@ void DynamicFilter::processStrong(const cv::Mat& depth, const features::FeatureS
             e.patchError = err[i];
             const cv::Point2f d = tracked[i] - q, dAlt = tracked[i] - predictedAlt[i];
             e.residual = std::sqrt(std::min(d.dot(d), dAlt.dot(dAlt)));
+            if (unknownSlot[i] >= 0)
+            {
+                const auto k = static_cast<size_t>(unknownSlot[i]);
+                e.residual = std::min(e.residual,
+                                      distanceToSegment(tracked[i], segmentNear[k], segmentFar[k]));
+            }
         }
     }
     decideStrong(features, result);
