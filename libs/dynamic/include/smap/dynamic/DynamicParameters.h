@@ -56,7 +56,7 @@ struct DynamicParameters : public mrpt::config::CLoadableOptions
     /// Adaptive tau = clamp(median + tau_sigmas x 1.4826 MAD of the frame's residual flows,
     /// tau_min, tau).
     double tau_min = 2.0;
-    double tau_sigmas = 4.0;
+    double tau_sigmas = 6.0;
     /// Depth test: a keypoint measured closer than the warped previous surface by more than
     /// max(depth_margin, depth_ratio x z) is something that moved in front.
     double depth_margin = 0.10;
