@@ -40,6 +40,18 @@ double translationError(const Eigen::Isometry3d& T, const Eigen::Isometry3d& tru
     return (T.translation() - truth.translation()).norm();
 }
 
+/// A 640x480 pinhole camera, 525 px focal length, no distortion.
+core::PinholeCamera vgaCamera()
+{
+    core::PinholeCamera cam;
+    cam.width = 640;
+    cam.height = 480;
+    cam.fx = cam.fy = 525.0;
+    cam.cx = 319.5;
+    cam.cy = 239.5;
+    return cam;
+}
+
 struct Prepared
 {
     sim::SyntheticFrame frame;
@@ -204,12 +216,7 @@ TEST(EgoMotion, DepthPnpMatchesTheTrueRelativePoseOverAShortBaseline)
 // true pose back; too few pairs or a point behind the camera give nothing.
 TEST(EgoMotion, RefinePoseRecoversTheTruePoseFromExactPixels)
 {
-    core::PinholeCamera cam;
-    cam.width = 640;
-    cam.height = 480;
-    cam.fx = cam.fy = 525.0;
-    cam.cx = 319.5;
-    cam.cy = 239.5;
+    const core::PinholeCamera cam = vgaCamera();
     Eigen::Isometry3d truth = Eigen::Isometry3d::Identity();
     truth.linear() =
         Eigen::AngleAxisd(0.1, Eigen::Vector3d(0.2, 1.0, 0.1).normalized()).toRotationMatrix();
@@ -244,12 +251,7 @@ TEST(EgoMotion, RefinePoseRecoversTheTruePoseFromExactPixels)
 // motion that the large jump contradicts, gives the camera's motion.
 TEST(EgoMotion, MoversThatAreTheMajorityDoNotPullTheEgoMotion)
 {
-    core::PinholeCamera cam;
-    cam.width = 640;
-    cam.height = 480;
-    cam.fx = cam.fy = 525.0;
-    cam.cx = 319.5;
-    cam.cy = 239.5;
+    const core::PinholeCamera cam = vgaCamera();
     Eigen::Isometry3d camera = Eigen::Isometry3d::Identity();
     camera.translate(Eigen::Vector3d(0.01, -0.005, 0.008));
     camera.rotate(Eigen::AngleAxisd(0.01, Eigen::Vector3d::UnitY()));
@@ -293,12 +295,7 @@ TEST(EgoMotion, MoversThatAreTheMajorityDoNotPullTheEgoMotion)
 // supported is taken even though it is far from the prior.
 TEST(EgoMotion, AWrongPriorDoesNotOverruleAWellSupportedPose)
 {
-    core::PinholeCamera cam;
-    cam.width = 640;
-    cam.height = 480;
-    cam.fx = cam.fy = 525.0;
-    cam.cx = 319.5;
-    cam.cy = 239.5;
+    const core::PinholeCamera cam = vgaCamera();
     Eigen::Isometry3d camera = Eigen::Isometry3d::Identity();
     camera.translate(Eigen::Vector3d(0.01, 0.0, 0.0));
     const TwoFrames t = twoFrames(cam, camera, Eigen::Isometry3d::Identity(), 300, 0);
