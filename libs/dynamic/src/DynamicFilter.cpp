@@ -240,6 +240,26 @@ void DynamicFilter::processStrong(const cv::Mat& depth, const features::FeatureS
     // and their depth there; `predictedAlt` under the farther depth hypothesis.
     std::vector<cv::Point2f> predicted, predictedAlt;
     std::vector<float> zPrevious(n);
+    // Points in the reference camera's frame to its (distorted) pixels.
+    auto toPixels = [&camera](const std::vector<cv::Point3f>& points, std::vector<cv::Point2f>& out)
+    {
+        out.clear();
+        if (points.empty())
+            return;
+        if (camera.hasDistortion())
+        {
+            cv::projectPoints(points, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0), camera.cameraMatrix(),
+                              camera.distCoeffs(), out);
+            return;
+        }
+        out.resize(points.size());
+        for (size_t i = 0; i < points.size(); ++i)
+        {
+            const Eigen::Vector2d uv =
+                camera.project(Eigen::Vector3d(points[i].x, points[i].y, points[i].z));
+            out[i] = cv::Point2f(static_cast<float>(uv.x()), static_cast<float>(uv.y()));
+        }
+    };
     auto project = [&](const Eigen::Isometry3d& T_prev_cur, const std::vector<cv::Point3f>& Xs,
                        std::vector<cv::Point2f>& out, bool keepDepth)
     {
@@ -255,19 +275,7 @@ void DynamicFilter::processStrong(const cv::Mat& depth, const features::FeatureS
                                               static_cast<float>(X.z()))
                                 : cv::Point3f(1e4F, 1e4F, 1.0F);
         }
-        if (!camera.hasDistortion())
-        {
-            out.resize(n);
-            for (size_t i = 0; i < n; ++i)
-            {
-                const Eigen::Vector2d uv = camera.project(
-                    Eigen::Vector3d(inPrevious[i].x, inPrevious[i].y, inPrevious[i].z));
-                out[i] = cv::Point2f(static_cast<float>(uv.x()), static_cast<float>(uv.y()));
-            }
-            return;
-        }
-        cv::projectPoints(inPrevious, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0), camera.cameraMatrix(),
-                          camera.distCoeffs(), out);
+        toPixels(inPrevious, out);
     };
     auto predict = [&](const Eigen::Isometry3d& T_cur_prev)
     {
@@ -388,13 +396,8 @@ void DynamicFilter::processStrong(const cv::Mat& depth, const features::FeatureS
                                   static_cast<float>(X.z()));
             }
         }
-        if (!unknownDepth.empty())
-        {
-            cv::projectPoints(nearEnd, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0),
-                              camera.cameraMatrix(), camera.distCoeffs(), segmentNear);
-            cv::projectPoints(farEnd, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0), camera.cameraMatrix(),
-                              camera.distCoeffs(), segmentFar);
-        }
+        toPixels(nearEnd, segmentNear);
+        toPixels(farEnd, segmentFar);
     }
     std::vector<int> unknownSlot(n, -1);
     for (size_t k = 0; k < unknownDepth.size(); ++k)
