@@ -12,9 +12,22 @@
 #include <string>
 
 #include "smap/core/InputError.h"
+#include "smap/core/PinholeCamera.h"
 
 namespace smap::test
 {
+/// A pinhole camera without distortion whose principal point is the image centre.
+inline core::PinholeCamera centredCamera(int width, int height, double focal)
+{
+    core::PinholeCamera c;
+    c.width = width;
+    c.height = height;
+    c.fx = c.fy = focal;
+    c.cx = (width - 1) / 2.0;
+    c.cy = (height - 1) / 2.0;
+    return c;
+}
+
 inline std::string sharedDir()
 {
     return SMAP_SHARED_DIR;

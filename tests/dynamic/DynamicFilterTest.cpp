@@ -43,13 +43,7 @@ double translationError(const Eigen::Isometry3d& T, const Eigen::Isometry3d& tru
 /// A 640x480 pinhole camera, 525 px focal length, no distortion.
 core::PinholeCamera vgaCamera()
 {
-    core::PinholeCamera cam;
-    cam.width = 640;
-    cam.height = 480;
-    cam.fx = cam.fy = 525.0;
-    cam.cx = 319.5;
-    cam.cy = 239.5;
-    return cam;
+    return test::centredCamera(640, 480, 525.0);
 }
 
 struct Prepared

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <opencv2/core.hpp>
 
+#include "TestData.h"
 #include "smap/mapping/SemanticMapBuilder.h"
 
 using namespace smap;
@@ -13,13 +14,7 @@ namespace
 {
 core::PinholeCamera camera()
 {
-    core::PinholeCamera c;
-    c.width = 80;
-    c.height = 60;
-    c.fx = c.fy = 80.0;
-    c.cx = 39.5;
-    c.cy = 29.5;
-    return c;
+    return test::centredCamera(80, 60, 80.0);
 }
 
 /// A wall 2 m in front, label 9 (chair) on the left half, 15 (person, dynamic) on a square.

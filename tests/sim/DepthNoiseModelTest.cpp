@@ -3,6 +3,7 @@
 #include <cmath>
 #include <opencv2/core.hpp>
 
+#include "TestData.h"
 #include "smap/sim/DepthNoiseModel.h"
 
 using smap::sim::DepthNoiseModel;
@@ -11,13 +12,7 @@ namespace
 {
 smap::core::PinholeCamera camera()
 {
-    smap::core::PinholeCamera c;
-    c.width = 200;
-    c.height = 150;
-    c.fx = c.fy = 525;
-    c.cx = 99.5;
-    c.cy = 74.5;
-    return c;
+    return smap::test::centredCamera(200, 150, 525.0);
 }
 }  // namespace
 
