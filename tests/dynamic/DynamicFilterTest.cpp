@@ -448,6 +448,7 @@ TEST(DynamicFilter, ModeOffAndFirstFrameMarkNothing)
             off.process(p.frame.rendered.colour, p.frame.rendered.depth, p.features, o.camera);
         EXPECT_EQ(ro.numDynamic(), 0U);
         EXPECT_EQ(ro.weights(), std::vector<float>(p.features.size(), 1.0F));
+        EXPECT_TRUE(ro.mappable().empty()) << "nothing measured: every keypoint may be mapped";
         EXPECT_TRUE(ro.evaluated);
         if (i == 40)
         {
@@ -462,6 +463,26 @@ TEST(DynamicFilter, ModeOffAndFirstFrameMarkNothing)
             EXPECT_GT(rp.numDynamic(), 0U);
         }
     }
+}
+
+// New map points only from keypoints judged static on a measured residual.
+TEST(DynamicResult, OnlyKeypointsWithAStaticMeasuredResidualAreMappable)
+{
+    dynamic::DynamicResult r;
+    r.keypoints.resize(4);
+    r.keypoints[0].residual = 1.0F;   // static, measured
+    r.keypoints[1].residual = -1.0F;  // Lucas-Kanade lost it: no evidence
+    r.keypoints[2].residual = 12.0F;  // dynamic
+    r.keypoints[2].dynamic = true;
+    r.keypoints[3].residual = 0.5F;  // small residual, but dynamic on other evidence
+    r.keypoints[3].dynamic = true;
+    r.keypoints[3].depth = true;
+    EXPECT_EQ(r.mappable(), (std::vector<bool>{true, false, false, false}));
+    EXPECT_EQ(r.weights(), (std::vector<float>{1.0F, 1.0F, 0.0F, 0.0F}))
+        << "the unmeasured keypoint is still tracked";
+    for (auto& k : r.keypoints)
+        k = dynamic::KeypointEvidence{};
+    EXPECT_TRUE(r.mappable().empty()) << "no residual at all: no restriction";
 }
 
 TEST(DynamicParameters, InvalidValuesNameTheKey)

@@ -208,6 +208,76 @@ TEST(RgbdSlam, MaskedFeaturesNeverEnterTheMap)
     EXPECT_THROW(g.setWeights(std::vector<float>(g.size(), 1.5F)), std::invalid_argument);
 }
 
+// Keypoints flagged as not mappable are tracked but start no map point at later keyframes.
+TEST(RgbdSlam, NonMappableKeypointsStartNoMapPoints)
+{
+    const auto& seq = staticXyz();
+    auto run = [&seq](bool mappable)
+    {
+        slam::RgbdSlam slam(features::OrbParameters{}, slam::TrackerParameters{}, deterministic());
+        size_t afterInit = 0;
+        int withPose = 0;
+        for (size_t i = 0; i < 45; ++i)
+        {
+            auto f = slam.prepare(seq.frames[i]);
+            if (i > 0)
+                f.setMappable(std::vector<bool>(f.size(), mappable));
+            withPose += slam::hasPose(slam.track(std::move(f)).status) ? 1 : 0;
+            if (i == 0)
+                afterInit = slam.numPointsCreated();
+        }
+        slam.finish();
+        EXPECT_EQ(withPose, 45);
+        EXPECT_GT(slam.numKeyFrames(), 1U) << "keyframes were made, so points could have been";
+        return std::make_pair(afterInit, slam.numPointsCreated());
+    };
+    const auto [initAll, endAll] = run(true);
+    const auto [initNone, endNone] = run(false);
+    ASSERT_EQ(initAll, initNone) << "the first keyframe is not restricted";
+    EXPECT_GT(endAll, initAll + 50) << "control: mappable keypoints do make new points";
+    EXPECT_EQ(endNone, initNone) << "no new points after the first keyframe";
+
+    auto g = slam::RgbdSlam(features::OrbParameters{}, slam::TrackerParameters{}, deterministic())
+                 .prepare(seq.frames[0]);
+    EXPECT_THROW(g.setMappable(std::vector<bool>(3, true)), std::invalid_argument);
+}
+
+// A frame whose outside weights exclude nearly every keypoint (a filter gone wrong) fails to
+// track; with fallback_weight it is tracked once more with raised weights, at the true pose.
+TEST(RgbdSlam, FrameFailingWithItsWeightsIsTrackedWithRaisedWeights)
+{
+    const auto& seq = staticXyz();
+    constexpr size_t kBad = 30;
+    auto run = [&seq](double fallback)
+    {
+        slam::TrackerParameters tp;
+        tp.fallback_weight = fallback;
+        slam::RgbdSlam slam(features::OrbParameters{}, tp, deterministic());
+        slam::TrackingResult bad;
+        for (size_t i = 0; i <= kBad; ++i)
+        {
+            auto f = slam.prepare(seq.frames[i]);
+            if (i == kBad)
+            {
+                std::vector<float> w(f.size(), 0.0F);
+                for (size_t k = 0; k < w.size(); k += 50)
+                    w[k] = 1.0F;  // 2 % of the keypoints left
+                f.setWeights(w);
+            }
+            bad = slam.track(std::move(f));
+        }
+        return bad;
+    };
+    EXPECT_EQ(run(0.0).status, slam::TrackingStatus::Lost) << "without the fallback";
+    const auto r = run(0.5);
+    ASSERT_EQ(r.status, slam::TrackingStatus::Ok);
+    // The map's world is the first camera.
+    const mrpt::poses::CPose3D T_first_cam =
+        seq.groundTruth[kBad].T_world_cam - seq.groundTruth[0].T_world_cam;
+    const mrpt::poses::CPose3D error = slam::toCPose3D(r.T_world_cam) - T_first_cam;
+    EXPECT_LT(error.norm(), 0.01) << "translation error (m)";
+}
+
 // A map point hidden behind a mover (most keypoints around its projection have weight 0) is
 // neither matched nor counted as "visible but not found": people walking in front of the
 // background must not get its points culled.

@@ -22,6 +22,18 @@ std::vector<float> DynamicResult::weights() const
     return w;
 }
 
+std::vector<bool> DynamicResult::mappable() const
+{
+    const bool measured = std::any_of(keypoints.begin(), keypoints.end(),
+                                      [](const KeypointEvidence& k) { return k.residual >= 0.0F; });
+    if (!measured)
+        return {};
+    std::vector<bool> m(keypoints.size());
+    for (size_t i = 0; i < keypoints.size(); ++i)
+        m[i] = !keypoints[i].dynamic && keypoints[i].residual >= 0.0F;
+    return m;
+}
+
 size_t DynamicResult::numDynamic() const
 {
     size_t n = 0;

@@ -35,6 +35,7 @@ SemanticMapper::PreparedFrame SemanticMapper::prepare(const core::RgbdFrame& fra
     p.dynamic =
         dynamicFilter_.process(frame.colour, frame.depth, p.features.features, frame.camera);
     p.features.setWeights(p.dynamic.weights());
+    p.features.setMappable(p.dynamic.mappable());
     if (p.dynamic.egoMotion.valid && p.dynamic.framesBack > 0)
     {
         p.features.odometry_T_cam_earlier = p.dynamic.egoMotion.T_cur_prev;

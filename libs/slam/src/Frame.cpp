@@ -25,6 +25,14 @@ void Frame::setWeights(const std::vector<float>& w)
     weights = w;
 }
 
+void Frame::setMappable(const std::vector<bool>& m)
+{
+    if (!m.empty() && m.size() != size())
+        throw std::invalid_argument("mappable flags: " + std::to_string(m.size()) + " values for " +
+                                    std::to_string(size()) + " keypoints");
+    mappable = m;
+}
+
 void Frame::setMask(const cv::Mat& mask)
 {
     if (mask.empty())

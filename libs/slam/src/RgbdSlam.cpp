@@ -130,6 +130,12 @@ size_t RgbdSlam::numPoints() const
     return map_->points().size();
 }
 
+size_t RgbdSlam::numPointsCreated() const
+{
+    std::lock_guard<std::mutex> lock(map_->mutex());
+    return static_cast<size_t>(map_->pointsCreated());
+}
+
 mrpt::poses::CPose3D toCPose3D(const Eigen::Isometry3d& T)
 {
     mrpt::math::CMatrixDouble44 M;

@@ -39,6 +39,7 @@ void TrackerParameters::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
     relocalisation_candidates =
         cfg.read_int(s, "relocalisation_candidates", relocalisation_candidates);
     reanchor_after = cfg.read_int(s, "reanchor_after", reanchor_after);
+    fallback_weight = cfg.read_double(s, "fallback_weight", fallback_weight);
     optimisation_rounds = cfg.read_int(s, "optimisation_rounds", optimisation_rounds);
     optimisation_iterations = cfg.read_int(s, "optimisation_iterations", optimisation_iterations);
 
@@ -66,6 +67,9 @@ void TrackerParameters::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
     if (reanchor_after < 0)
         throw core::InputError(
             mrpt::format("[tracking] reanchor_after = %d must be >= 0", reanchor_after));
+    if (!(fallback_weight >= 0.0 && fallback_weight <= 1.0))
+        throw core::InputError(
+            mrpt::format("[tracking] fallback_weight = %g must be in [0, 1]", fallback_weight));
     requirePositive(optimisation_rounds, s, "optimisation_rounds");
     requirePositive(optimisation_iterations, s, "optimisation_iterations");
 }
@@ -91,6 +95,7 @@ void TrackerParameters::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
     cfg.write(s, "revisit_radius", revisit_radius);
     cfg.write(s, "relocalisation_candidates", relocalisation_candidates);
     cfg.write(s, "reanchor_after", reanchor_after);
+    cfg.write(s, "fallback_weight", fallback_weight);
     cfg.write(s, "optimisation_rounds", optimisation_rounds);
     cfg.write(s, "optimisation_iterations", optimisation_iterations);
 }

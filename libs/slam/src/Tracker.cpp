@@ -59,6 +59,8 @@ TrackingResult Tracker::track(Frame frame)
     result.keypoints = static_cast<int>(frame.size());
     if (frame.weights.size() != frame.size())
         frame.setWeights({});
+    if (frame.mappable.size() != frame.size())
+        frame.mappable.clear();
     frame.clearMatches();
     std::shared_ptr<KeyFrame> newKf;
     {
@@ -96,6 +98,8 @@ TrackingResult Tracker::track(Frame frame)
             }
             if (ok)
                 ok = trackLocalMap(frame);
+            if (!ok && !lost_)
+                ok = trackWithRaisedWeights(frame);
             bool reanchored = false;
             const auto carried = odometryPose(frame);
             if (!ok && lost_ && params_.reanchor_after > 0 &&
@@ -265,6 +269,29 @@ bool Tracker::trackWithMotionModel(Frame& frame, const Eigen::Isometry3d& veloci
         return false;
     optimise(frame);
     return frame.discardOutliers() >= 10;
+}
+
+bool Tracker::trackWithRaisedWeights(Frame& frame)
+{
+    if (params_.fallback_weight <= 0.0 || !last_)
+        return false;
+    const auto floor = static_cast<float>(params_.fallback_weight);
+    if (std::all_of(frame.weights.begin(), frame.weights.end(),
+                    [floor](float w) { return w >= floor; }))
+        return false;  // nothing would change
+    const std::vector<float> weights = frame.weights;
+    for (float& w : frame.weights)
+        w = std::max(w, floor);
+    const bool ok =
+        trackWithMotionModel(frame, velocity_ ? *velocity_ : Eigen::Isometry3d::Identity()) &&
+        trackLocalMap(frame);
+    // Back to the outside weights: excluded keypoints keep their matches for this pose, but
+    // start no map point and carry no weight in bundle adjustment.
+    frame.weights = weights;
+    if (ok)
+        MRPT_LOG_DEBUG_FMT("frame %lu tracked with raised weights (%d inliers)",
+                           static_cast<unsigned long>(frame.id), frame.countMatches());
+    return ok;
 }
 
 bool Tracker::trackReferenceKeyFrame(Frame& frame)
@@ -470,7 +497,7 @@ std::shared_ptr<KeyFrame> Tracker::createKeyFrame(Frame& frame)
     // ... and new points from depth, nearest first: all close ones, at least 100.
     std::vector<std::pair<float, size_t>> byDepth;
     for (size_t i = 0; i < frame.size(); ++i)
-        if (frame.usable(i) && frame.features.hasDepth(i))
+        if (frame.canMap(i) && frame.features.hasDepth(i))
             byDepth.emplace_back(frame.features.depth[i], i);
     std::sort(byDepth.begin(), byDepth.end());
     const Eigen::Isometry3d T_world_cam = frame.T_cam_world.inverse();

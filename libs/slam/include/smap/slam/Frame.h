@@ -28,6 +28,10 @@ struct Frame
     /// Per keypoint, in [0, 1]: 0 excludes the keypoint from tracking and mapping (e.g. a
     /// dynamic point), values in between scale its weight in the optimisation.
     std::vector<float> weights;
+    /// Per keypoint (empty: every usable one): may start a new map point at a keyframe. The
+    /// dynamic filter clears it where it could not measure the flow: such a keypoint is used
+    /// for tracking, but nothing shows that it is static.
+    std::vector<bool> mappable;
     std::vector<std::shared_ptr<MapPoint>> points;  ///< matched map point or null
     std::vector<bool> outlier;
     Eigen::Isometry3d T_cam_world = Eigen::Isometry3d::Identity();
@@ -40,11 +44,14 @@ struct Frame
 
     size_t size() const { return features.size(); }
     bool usable(size_t i) const { return weights[i] > 0.0F; }
+    bool canMap(size_t i) const { return usable(i) && (mappable.empty() || mappable[i]); }
     /// Indices of the keypoints with weight > 0.
     std::vector<size_t> usableKeypoints() const;
     /// Sets per-keypoint weights; an empty vector means all 1. Throws std::invalid_argument
     /// when the size does not match or a weight is outside [0, 1].
     void setWeights(const std::vector<float>& w);
+    /// Sets `mappable` (empty: all); throws std::invalid_argument when the size does not match.
+    void setMappable(const std::vector<bool>& m);
     /// Weights from a mask image on the colour image's grid: 0 where mask == 0.
     void setMask(const cv::Mat& mask);
     void clearMatches();

@@ -30,6 +30,9 @@ public:
     /// Every keyframe ever created, culled ones included (for the trajectory).
     const std::map<uint64_t, std::shared_ptr<KeyFrame>>& allKeyFrames() const { return all_; }
 
+    /// Points created so far, culled and fused ones included.
+    uint64_t pointsCreated() const { return nextPointId_; }
+
     /// Drops bad keyframes and points from the live sets.
     void removeBad();
 

@@ -58,6 +58,8 @@ public:
     std::vector<Eigen::Vector3d> mapPointPositions() const;
     size_t numKeyFrames() const;
     size_t numPoints() const;
+    /// Map points created so far, culled and fused ones included.
+    size_t numPointsCreated() const;
     LocalMapper::Stats mappingStats() const { return mapper_->stats(); }
 
 private:

@@ -20,7 +20,9 @@ struct TrackerParameters : public mrpt::config::CLoadableOptions
     double motion_search_radius = 15;  ///< px at level 0, motion-model projection search
     double local_search_radius = 3;    ///< px at level 0 (x view-angle factor), local map
     int min_matches_motion = 20;       ///< motion-model matches before optimisation
-    int min_inliers = 30;              ///< inliers that keep tracking "ok"
+    /// Inliers that keep tracking "ok" (ORB-SLAM2: 30; 20 lets tracking through stretches
+    /// where movers hide most of the background, docs/tracking.md).
+    int min_inliers = 20;
     int min_inliers_after_relocalisation = 50;
     int keyframe_max_frames = 30;  ///< a keyframe at least this often (frames)
     /// While tracking is strong, no new keyframe within this many frames of the last one (the
@@ -41,6 +43,11 @@ struct TrackerParameters : public mrpt::config::CLoadableOptions
     /// does not hold, where relocalisation cannot succeed. 0 = never (lost until relocalised,
     /// as ORB-SLAM2; the default, see docs/tracking.md).
     int reanchor_after = 0;
+    /// A frame that fails to track with the outside weights (e.g. the dynamic filter's) is
+    /// tried once more with every weight raised to at least this value: the map points are
+    /// static, so keypoints the filter flagged by mistake can still match them. The weights
+    /// are restored afterwards (no map points from excluded keypoints). 0 disables.
+    double fallback_weight = 0.5;
     int optimisation_rounds = 4;       ///< pose-only optimisation: outlier rejection rounds
     int optimisation_iterations = 10;  ///< Levenberg-Marquardt iterations per round
 

@@ -82,6 +82,10 @@ private:
     /// Projection search of the last frame's points at velocity x its pose, then pose-only BA.
     bool trackWithMotionModel(Frame& frame, const Eigen::Isometry3d& velocity);
     bool trackReferenceKeyFrame(Frame& frame);
+    /// When tracking failed with the outside weights: once more from the last frame with every
+    /// weight raised to at least fallback_weight (0 disables), since the map points are
+    /// static, keypoints the outside excluded by mistake can match them.
+    bool trackWithRaisedWeights(Frame& frame);
     bool relocalise(Frame& frame);
     /// Adds `frame` as a keyframe at its current pose with points from its depth (the first
     /// keyframe, or a re-anchor); false when it has fewer than `min_points` usable depths.
