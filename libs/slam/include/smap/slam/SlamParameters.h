@@ -20,9 +20,7 @@ struct TrackerParameters : public mrpt::config::CLoadableOptions
     double motion_search_radius = 15;  ///< px at level 0, motion-model projection search
     double local_search_radius = 3;    ///< px at level 0 (x view-angle factor), local map
     int min_matches_motion = 20;       ///< motion-model matches before optimisation
-    /// Inliers that keep tracking "ok" (ORB-SLAM2: 30; 20 lets tracking through stretches
-    /// where movers hide most of the background, docs/tracking.md).
-    int min_inliers = 20;
+    int min_inliers = 30;  ///< inliers that keep tracking "ok"
     int min_inliers_after_relocalisation = 50;
     int keyframe_max_frames = 30;  ///< a keyframe at least this often (frames)
     /// While tracking is strong, no new keyframe within this many frames of the last one (the
