@@ -20,7 +20,7 @@ struct TrackerParameters : public mrpt::config::CLoadableOptions
     double motion_search_radius = 15;  ///< px at level 0, motion-model projection search
     double local_search_radius = 3;    ///< px at level 0 (x view-angle factor), local map
     int min_matches_motion = 20;       ///< motion-model matches before optimisation
-    int min_inliers = 30;  ///< inliers that keep tracking "ok"
+    int min_inliers = 30;              ///< inliers that keep tracking "ok"
     int min_inliers_after_relocalisation = 50;
     int keyframe_max_frames = 30;  ///< a keyframe at least this often (frames)
     /// While tracking is strong, no new keyframe within this many frames of the last one (the
