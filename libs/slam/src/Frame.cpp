@@ -9,6 +9,17 @@
 
 namespace smap::slam
 {
+namespace
+{
+/// Per-keypoint outside input must have one value per keypoint.
+void requireOnePerKeypoint(const char* what, size_t n, size_t keypoints)
+{
+    if (n != keypoints)
+        throw std::invalid_argument(std::string(what) + ": " + std::to_string(n) + " values for " +
+                                    std::to_string(keypoints) + " keypoints");
+}
+}  // namespace
+
 void Frame::setWeights(const std::vector<float>& w)
 {
     if (w.empty())
@@ -16,9 +27,7 @@ void Frame::setWeights(const std::vector<float>& w)
         weights.assign(size(), 1.0F);
         return;
     }
-    if (w.size() != size())
-        throw std::invalid_argument("feature weights: " + std::to_string(w.size()) +
-                                    " values for " + std::to_string(size()) + " keypoints");
+    requireOnePerKeypoint("feature weights", w.size(), size());
     for (float x : w)
         if (!(x >= 0.0F && x <= 1.0F))
             throw std::invalid_argument("feature weight " + std::to_string(x) + " outside [0, 1]");
@@ -27,9 +36,8 @@ void Frame::setWeights(const std::vector<float>& w)
 
 void Frame::setMappable(const std::vector<bool>& m)
 {
-    if (!m.empty() && m.size() != size())
-        throw std::invalid_argument("mappable flags: " + std::to_string(m.size()) + " values for " +
-                                    std::to_string(size()) + " keypoints");
+    if (!m.empty())
+        requireOnePerKeypoint("mappable flags", m.size(), size());
     mappable = m;
 }
 
