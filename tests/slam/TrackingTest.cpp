@@ -278,6 +278,75 @@ TEST(RgbdSlam, FrameFailingWithItsWeightsIsTrackedWithRaisedWeights)
     EXPECT_LT(error.norm(), 0.01) << "translation error (m)";
 }
 
+// A first frame the outside could not vet (all weights 0) starts no map; the next one does, and
+// the outside odometry linking the two then gives the first frame its pose, refined against the
+// new map (or the odometry's own when the refinement finds too few inliers).
+TEST(RgbdSlam, FrameBeforeTheMapIsPosedFromTheOdometryThatLinksIt)
+{
+    const auto& seq = staticXyz();
+    constexpr size_t kSecond = 10;
+    // The first camera in the map's world (the second camera), and an odometry 3 cm off it.
+    const mrpt::poses::CPose3D T_second_first =
+        seq.groundTruth[0].T_world_cam - seq.groundTruth[kSecond].T_world_cam;
+    ASSERT_GT(T_second_first.norm(), 0.02) << "the two frames must be apart for the check to bite";
+    const mrpt::poses::CPose3D odometryPose =
+        T_second_first + mrpt::poses::CPose3D(0.03, 0, 0, 0, 0, 0);
+    const Eigen::Isometry3d odometry_T_second_first(
+        odometryPose.getHomogeneousMatrixVal<mrpt::math::CMatrixDouble44>().asEigen());
+    struct Run
+    {
+        slam::TrackingResult second;
+        core::Trajectory trajectory;
+        slam::TrackingStatus firstStatus;
+    };
+    auto run = [&](bool withOdometry, int minInliers)
+    {
+        slam::TrackerParameters tp;
+        tp.min_inliers = minInliers;
+        slam::RgbdSlam slam(features::OrbParameters{}, tp, deterministic());
+        auto first = slam.prepare(seq.frames[0]);
+        first.setWeights(std::vector<float>(first.size(), 0.0F));
+        EXPECT_EQ(slam.track(std::move(first)).status, slam::TrackingStatus::NotInitialised);
+        auto second = slam.prepare(seq.frames[kSecond]);
+        if (withOdometry)
+        {
+            second.odometry_T_cam_earlier = odometry_T_second_first;
+            second.odometryFramesBack = 1;
+        }
+        Run r;
+        r.second = slam.track(std::move(second));
+        EXPECT_EQ(r.second.status, slam::TrackingStatus::Initialised);
+        EXPECT_EQ(r.second.frameId, 1U);
+        slam.finish();
+        EXPECT_EQ(slam.records().size(), 2U);
+        r.firstStatus = slam.records().front().status;
+        r.trajectory = slam.trajectory();
+        return r;
+    };
+
+    const Run without = run(false, 30);
+    EXPECT_EQ(without.firstStatus, slam::TrackingStatus::NotInitialised);
+    EXPECT_FALSE(without.second.posedEarlierFrameId.has_value());
+    ASSERT_EQ(without.trajectory.size(), 1U);
+    EXPECT_EQ(without.trajectory[0].timestamp, seq.frames[kSecond].timestamp);
+
+    const Run refined = run(true, 30);
+    EXPECT_EQ(refined.firstStatus, slam::TrackingStatus::Odometry);
+    EXPECT_TRUE(slam::hasPose(refined.firstStatus));
+    ASSERT_TRUE(refined.second.posedEarlierFrameId.has_value());
+    EXPECT_EQ(*refined.second.posedEarlierFrameId, 0U);
+    ASSERT_EQ(refined.trajectory.size(), 2U);
+    EXPECT_EQ(refined.trajectory[0].timestamp, seq.frames[0].timestamp);
+    EXPECT_EQ(refined.trajectory[1].timestamp, seq.frames[kSecond].timestamp);
+    EXPECT_LT((refined.trajectory[0].T_world_cam - T_second_first).norm(), 0.005)
+        << "refined against the map, well within the odometry's 3 cm";
+
+    // No refinement can reach this many inliers: the odometry's pose stands.
+    const Run unrefined = run(true, 100000);
+    ASSERT_EQ(unrefined.trajectory.size(), 2U);
+    EXPECT_LT((unrefined.trajectory[0].T_world_cam - odometryPose).norm(), 1e-9);
+}
+
 // A map point hidden behind a mover (most keypoints around its projection have weight 0) is
 // neither matched nor counted as "visible but not found": people walking in front of the
 // background must not get its points culled.

@@ -38,6 +38,18 @@ void RunLog::add(const FrameStats& stats, double timestamp, const core::PinholeC
     relocalised_ += status == slam::TrackingStatus::Relocalised ? 1 : 0;
     reanchored_ += status == slam::TrackingStatus::Reanchored ? 1 : 0;
     sumValidDepth_ += stats.validDepthFraction;
+    if (const auto earlier = result.tracking.posedEarlierFrameId)
+    {
+        for (auto& row : rows_)
+        {
+            auto& t = row.result.tracking;
+            if (t.frameId == *earlier && !slam::hasPose(t.status))
+            {
+                t.status = slam::TrackingStatus::Odometry;
+                withPose_++;
+            }
+        }
+    }
     rows_.push_back({stats, result});
 }
 

@@ -32,6 +32,8 @@ std::string toString(TrackingStatus s)
             return "relocalised";
         case TrackingStatus::Reanchored:
             return "reanchored";
+        case TrackingStatus::Odometry:
+            return "odometry";
         case TrackingStatus::Lost:
             return "lost";
     }
@@ -71,6 +73,7 @@ TrackingResult Tracker::track(Frame frame)
             {
                 result.status = TrackingStatus::Initialised;
                 newKf = reference_;
+                result.posedEarlierFrameId = poseEarlierFrameFromOdometry(frame);
             }
         }
         else
@@ -166,6 +169,7 @@ TrackingResult Tracker::track(Frame frame)
                 recentPoses_.pop_front();
         }
         result.inliers = frame.countMatches();
+        result.frameId = frame.id;
         FrameRecord rec;
         rec.frameId = frame.id;
         rec.timestamp = frame.timestamp;
@@ -188,6 +192,40 @@ TrackingResult Tracker::track(Frame frame)
     if (newKf)
         mapper_.insertKeyFrame(newKf);
     return result;
+}
+
+std::optional<uint64_t> Tracker::poseEarlierFrameFromOdometry(const Frame& frame)
+{
+    if (!frame.odometry_T_cam_earlier || frame.odometryFramesBack == 0 ||
+        frame.odometryFramesBack > frame.id)
+        return std::nullopt;
+    const uint64_t earlier = frame.id - frame.odometryFramesBack;
+    const auto rec = std::find_if(records_.begin(), records_.end(),
+                                  [earlier](const FrameRecord& r) { return r.frameId == earlier; });
+    if (rec == records_.end() || rec->status != TrackingStatus::NotInitialised)
+        return std::nullopt;
+    // The odometry's pose, refined against the new map when the earlier frame is still at
+    // hand: the map holds only keypoints the outside vetted, so the earlier frame's keypoints
+    // may all take part (its own weights are what kept it from starting the map).
+    Eigen::Isometry3d T_earlier_world = frame.odometry_T_cam_earlier->inverse() * frame.T_cam_world;
+    if (last_ && last_->id == earlier)
+    {
+        Frame& e = *last_;
+        const std::vector<float> weights = e.weights;
+        std::fill(e.weights.begin(), e.weights.end(), 1.0F);
+        const int inliers = poseFromReferenceKeyFrame(e, T_earlier_world);
+        if (inliers >= params_.min_inliers)
+            T_earlier_world = e.T_cam_world;
+        MRPT_LOG_DEBUG_FMT("frame %lu posed from the odometry%s (%d inliers against the map)",
+                           static_cast<unsigned long>(earlier),
+                           inliers >= params_.min_inliers ? ", refined" : "", inliers);
+        e.weights = weights;
+        e.clearMatches();
+    }
+    rec->status = TrackingStatus::Odometry;
+    rec->reference = reference_;
+    rec->T_cam_reference = T_earlier_world * reference_->T_cam_world().inverse();
+    return earlier;
 }
 
 std::optional<Eigen::Isometry3d> Tracker::odometryPose(const Frame& frame) const
@@ -296,18 +334,23 @@ bool Tracker::trackWithRaisedWeights(Frame& frame)
 
 bool Tracker::trackReferenceKeyFrame(Frame& frame)
 {
-    if (!reference_ || reference_->isBad() || !last_)
-        return false;
+    return last_ && poseFromReferenceKeyFrame(frame, last_->T_cam_world) >= 10;
+}
+
+int Tracker::poseFromReferenceKeyFrame(Frame& frame, const Eigen::Isometry3d& T_cam_world_guess)
+{
+    frame.clearMatches();
+    if (!reference_ || reference_->isBad())
+        return 0;
     const KeyFrame& kf = *reference_;
     const std::vector<size_t> kfRows = kf.keypointsWithPoints(),
                               frameRows = frame.usableKeypoints();
     if (kfRows.empty() || frameRows.empty())
-        return false;
+        return 0;
     const auto matches =
         features::matchWithRatioTest(frame.features.descriptors, kf.features.descriptors, 0.7F,
                                      kDescriptorHigh, frameRows, kfRows);
     features::RotationConsistency rot;
-    frame.clearMatches();
     for (const auto& m : matches)
     {
         frame.points[m.query] = kf.points[m.train];
@@ -321,10 +364,10 @@ bool Tracker::trackReferenceKeyFrame(Frame& frame)
         n--;
     }
     if (n < 15)
-        return false;
-    frame.T_cam_world = last_->T_cam_world;
+        return 0;
+    frame.T_cam_world = T_cam_world_guess;
     optimise(frame);
-    return frame.discardOutliers() >= 10;
+    return frame.discardOutliers();
 }
 
 bool Tracker::relocalise(Frame& frame)

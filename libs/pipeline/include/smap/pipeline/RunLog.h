@@ -15,6 +15,9 @@ namespace smap::pipeline
 class RunLog
 {
 public:
+    /// One frame's row. A result that started the map and posed an earlier frame from the
+    /// outside odometry (TrackingResult::posedEarlierFrameId) turns that frame's status into
+    /// `odometry`.
     void add(const FrameStats& stats, double timestamp, const core::PinholeCamera& camera,
              const SemanticMapper::FrameResult& result);
 

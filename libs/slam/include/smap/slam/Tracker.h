@@ -30,13 +30,17 @@ enum class TrackingStatus
     Ok,
     Relocalised,  ///< was lost, found again on this frame
     Reanchored,   ///< was lost too long: this frame re-anchored the map at its predicted pose
-    Lost
+    Lost,
+    /// Came before the map existed; posed afterwards from the outside odometry that links it to
+    /// the frame that started the map (only ever set on a record, after the fact).
+    Odometry
 };
 std::string toString(TrackingStatus s);
 inline bool hasPose(TrackingStatus s)
 {
     return s == TrackingStatus::Initialised || s == TrackingStatus::Ok ||
-           s == TrackingStatus::Relocalised || s == TrackingStatus::Reanchored;
+           s == TrackingStatus::Relocalised || s == TrackingStatus::Reanchored ||
+           s == TrackingStatus::Odometry;
 }
 
 struct TrackingTimings
@@ -55,6 +59,10 @@ struct TrackingResult
     int keypoints = 0;
     bool newKeyFrame = false;
     TrackingTimings timings;
+    uint64_t frameId = 0;  ///< the tracker's running frame number (0 for the first frame)
+    /// When this frame started the map: the earlier frame (not initialised when it came) that
+    /// the outside odometry placed relative to it; its record now has status Odometry.
+    std::optional<uint64_t> posedEarlierFrameId;
 };
 
 class Tracker : public mrpt::system::COutputLogger
@@ -82,6 +90,9 @@ private:
     /// Projection search of the last frame's points at velocity x its pose, then pose-only BA.
     bool trackWithMotionModel(Frame& frame, const Eigen::Isometry3d& velocity);
     bool trackReferenceKeyFrame(Frame& frame);
+    /// Descriptor matches with the reference keyframe's points, then pose-only BA from the
+    /// guess; the inliers (0 with fewer than 15 consistent matches).
+    int poseFromReferenceKeyFrame(Frame& frame, const Eigen::Isometry3d& T_cam_world_guess);
     /// When tracking failed with the outside weights: once more from the last frame with every
     /// weight raised to at least fallback_weight (0 disables), since the map points are
     /// static, keypoints the outside excluded by mistake can match them.
@@ -111,6 +122,10 @@ private:
     /// T_cam_world of the last frames (tracked, or carried by outside odometry while lost).
     std::deque<std::pair<uint64_t, Eigen::Isometry3d>> recentPoses_;
     std::optional<Eigen::Isometry3d> odometryPose(const Frame& frame) const;
+    /// `frame` just started the map: gives the earlier frame its outside odometry links it to
+    /// (when that one has no pose yet) a pose relative to the new reference keyframe, the
+    /// odometry's, refined against the map when that frame is the last one.
+    std::optional<uint64_t> poseEarlierFrameFromOdometry(const Frame& frame);
     std::shared_ptr<KeyFrame> reference_;
     uint64_t lastKeyFrameFrameId_ = 0;
     uint64_t lastRelocalisationFrameId_ = 0;
