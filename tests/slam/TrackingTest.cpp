@@ -10,6 +10,7 @@
 #include "smap/slam/Map.h"
 #include "smap/slam/MapPoint.h"
 #include "smap/slam/ProjectionSearch.h"
+#include "smap/slam/Relocalisation.h"
 #include "smap/slam/RgbdSlam.h"
 
 using namespace smap;
@@ -33,6 +34,27 @@ const test::RenderedSequence& staticXyz()
 double ateRmse(const core::Trajectory& gt, const core::Trajectory& est)
 {
     return eval::computeAte(gt, est).translation.rmse;
+}
+
+/// One map point per keypoint of `frame` with depth, observed by `kf` (the frame's keyframe).
+std::vector<std::shared_ptr<slam::MapPoint>> addDepthPoints(slam::Map& map, slam::KeyFrame& kf,
+                                                            const slam::Frame& frame)
+{
+    std::vector<std::shared_ptr<slam::MapPoint>> points;
+    for (size_t i = 0; i < frame.size(); ++i)
+    {
+        if (!frame.features.hasDepth(i))
+            continue;
+        const auto& p = frame.features.undistorted[i];
+        const Eigen::Vector3d X_cam = frame.camera.unproject(p.x, p.y, frame.features.depth[i]);
+        auto mp = map.createPoint(frame.T_cam_world.inverse() * X_cam, &kf);
+        mp->addObservation(&kf, i);
+        kf.points[i] = mp;
+        mp->computeDistinctiveDescriptor();
+        mp->updateNormalAndDepth();
+        points.push_back(mp);
+    }
+    return points;
 }
 }  // namespace
 
@@ -347,6 +369,46 @@ TEST(RgbdSlam, FrameBeforeTheMapIsPosedFromTheOdometryThatLinksIt)
     EXPECT_LT((unrefined.trajectory[0].T_world_cam - odometryPose).norm(), 1e-9);
 }
 
+// After an outage the camera is usually back near where tracking was lost, but the thumbnail
+// ranking can put an unrelated keyframe first: the keyframe tracking was lost at is tried too.
+TEST(Relocalisation, TriesTheKeyFrameTrackingWasLostAtWhenThumbnailsMislead)
+{
+    const auto& seq = staticXyz();
+    slam::RgbdSlam slam(features::OrbParameters{}, slam::TrackerParameters{}, deterministic());
+    slam::Map map;
+    slam::Frame first = slam.prepare(seq.frames[0]);
+    first.T_cam_world = Eigen::Isometry3d::Identity();
+    auto lostAt = map.createKeyFrame(first);
+    ASSERT_GT(addDepthPoints(map, *lostAt, first).size(), 200U);
+    // A keyframe without map points whose thumbnail is the lost frame's own.
+    slam::Frame other = slam.prepare(seq.frames[0]);
+    other.T_cam_world = Eigen::Isometry3d::Identity();
+    auto decoy = map.createKeyFrame(other);
+
+    constexpr size_t kLost = 8;
+    slam::TrackerParameters params;
+    params.relocalisation_candidates = 1;
+    auto lostFrame = [&]
+    {
+        slam::Frame f = slam.prepare(seq.frames[kLost]);
+        decoy->thumbnail = f.thumbnail.clone();
+        lostAt->thumbnail = -f.thumbnail;
+        return f;
+    };
+    slam::Frame withoutHint = lostFrame();
+    EXPECT_EQ(slam::relocaliseFrame(withoutHint, map, params), 0);
+
+    slam::Frame withHint = lostFrame();
+    const int inliers = slam::relocaliseFrame(withHint, map, params, lostAt.get());
+    EXPECT_GE(inliers, params.min_inliers_after_relocalisation);
+    const mrpt::poses::CPose3D T_first_lost =
+        seq.groundTruth[kLost].T_world_cam - seq.groundTruth[0].T_world_cam;
+    ASSERT_GT(T_first_lost.norm(), 0.02) << "the frames must be apart for the check to bite";
+    const mrpt::poses::CPose3D error =
+        slam::toCPose3D(withHint.T_cam_world.inverse()) - T_first_lost;
+    EXPECT_LT(error.norm(), 0.01) << "translation error (m)";
+}
+
 // A map point hidden behind a mover (most keypoints around its projection have weight 0) is
 // neither matched nor counted as "visible but not found": people walking in front of the
 // background must not get its points culled.
@@ -358,20 +420,7 @@ TEST(ProjectionSearch, PointsBehindMoversAreNotCountedAsMissed)
     slam::Frame first = slam.prepare(seq.frames[0]);
     first.T_cam_world = Eigen::Isometry3d::Identity();
     auto kf = map.createKeyFrame(first);
-    std::vector<std::shared_ptr<slam::MapPoint>> points;
-    for (size_t i = 0; i < first.size(); ++i)
-    {
-        if (!first.features.hasDepth(i))
-            continue;
-        const auto& p = first.features.undistorted[i];
-        auto mp =
-            map.createPoint(first.camera.unproject(p.x, p.y, first.features.depth[i]), kf.get());
-        mp->addObservation(kf.get(), i);
-        kf->points[i] = mp;
-        mp->computeDistinctiveDescriptor();
-        mp->updateNormalAndDepth();
-        points.push_back(mp);
-    }
+    const auto points = addDepthPoints(map, *kf, first);
     ASSERT_GT(points.size(), 200U);
     // The same view again, with a "person" over the left half: its keypoints have weight 0.
     slam::Frame again = slam.prepare(seq.frames[0]);

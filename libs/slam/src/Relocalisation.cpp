@@ -90,19 +90,33 @@ int tryKeyFrame(Frame& frame, const KeyFrame& kf, const TrackerParameters& param
 }
 }  // namespace
 
-int relocaliseFrame(Frame& frame, Map& map, const TrackerParameters& params)
+int relocaliseFrame(Frame& frame, Map& map, const TrackerParameters& params,
+                    const KeyFrame* lastReference)
 {
-    std::vector<std::pair<double, KeyFrame*>> ranked;
+    std::vector<std::pair<double, const KeyFrame*>> ranked;
     for (const auto& [id, kf] : map.keyframes())
         if (!kf->isBad())
             ranked.emplace_back(-thumbnailSimilarity(frame.thumbnail, kf->thumbnail), kf.get());
     std::stable_sort(ranked.begin(), ranked.end(),
                      [](const auto& a, const auto& b) { return a.first < b.first; });
-    const size_t n = std::min(ranked.size(), static_cast<size_t>(params.relocalisation_candidates));
-    int best = 0;
-    for (size_t c = 0; c < n; ++c)
+    const auto n = static_cast<size_t>(params.relocalisation_candidates);
+    std::vector<const KeyFrame*> candidates;
+    for (size_t c = 0; c < std::min(ranked.size(), n); ++c)
+        candidates.push_back(ranked[c].second);
+    if (lastReference && !lastReference->isBad())
     {
-        const int good = tryKeyFrame(frame, *ranked[c].second, params);
+        std::vector<const KeyFrame*> near = {lastReference};
+        for (const KeyFrame* kf : lastReference->bestCovisibles(static_cast<int>(n) - 1))
+            near.push_back(kf);
+        for (const KeyFrame* kf : near)
+            if (!kf->isBad() &&
+                std::find(candidates.begin(), candidates.end(), kf) == candidates.end())
+                candidates.push_back(kf);
+    }
+    int best = 0;
+    for (const KeyFrame* kf : candidates)
+    {
+        const int good = tryKeyFrame(frame, *kf, params);
         if (good >= params.min_inliers_after_relocalisation)
             return good;
         best = std::max(best, good);

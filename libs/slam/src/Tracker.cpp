@@ -373,7 +373,7 @@ int Tracker::poseFromReferenceKeyFrame(Frame& frame, const Eigen::Isometry3d& T_
 bool Tracker::relocalise(Frame& frame)
 {
     frame.clearMatches();
-    const int inliers = relocaliseFrame(frame, map_, params_);
+    const int inliers = relocaliseFrame(frame, map_, params_, reference_.get());
     return inliers >= params_.min_inliers_after_relocalisation;
 }
 

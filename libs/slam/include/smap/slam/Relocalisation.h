@@ -1,5 +1,6 @@
-// Relocalisation of a lost frame: keyframes ranked by thumbnail similarity, descriptor matches
-// to their map points, PnP-RANSAC, then pose refinement and a projection search for more.
+// Relocalisation of a lost frame: keyframes ranked by thumbnail similarity (then the keyframe
+// tracking was lost at and its covisible ones), descriptor matches to their map points,
+// PnP-RANSAC, then pose refinement and a projection search for more.
 #pragma once
 
 #include "smap/slam/SlamParameters.h"
@@ -7,9 +8,16 @@
 namespace smap::slam
 {
 struct Frame;
+class KeyFrame;
 class Map;
 
 /// Sets frame.T_cam_world and its matches on success. Hold the map mutex. Returns the inlier
-/// count of the best candidate (0 when none worked).
-int relocaliseFrame(Frame& frame, Map& map, const TrackerParameters& params);
+/// count of the best candidate (0 when none worked). Candidates: the
+/// `relocalisation_candidates` keyframes whose thumbnails look most like the frame's, then
+/// `lastReference` (the reference keyframe when tracking was lost; may be null) and as many of
+/// its strongest covisible keyframes, the ones already tried left out: after a short outage the
+/// camera is most likely back where it was, though a thumbnail taken tens of frames before the
+/// loss may look less like the view than an unrelated one does.
+int relocaliseFrame(Frame& frame, Map& map, const TrackerParameters& params,
+                    const KeyFrame* lastReference = nullptr);
 }  // namespace smap::slam
