@@ -31,6 +31,7 @@ import shutil
 import sys
 
 import numpy as np
+from tum_trajectory import pose_matrices
 
 try:
     import open3d as o3d
@@ -179,29 +180,6 @@ def cmd_edges(args, depth_model):
           % (*best[:4], best[4], best[5], -value))
 
 
-def read_trajectory(path):
-    poses = {}
-    with open(path) as f:
-        for number, line in enumerate(f, 1):
-            if line.startswith("#") or not line.strip():
-                continue
-            v = line.split()
-            if len(v) != 8:
-                sys.exit("%s:%d: expected 8 numbers, got %d" % (path, number, len(v)))
-            t, tx, ty, tz, qx, qy, qz, qw = (float(x) for x in v)
-            n = np.sqrt(qx * qx + qy * qy + qz * qz + qw * qw)
-            qx, qy, qz, qw = qx / n, qy / n, qz / n, qw / n
-            T = np.eye(4)
-            T[:3, :3] = [
-                [1 - 2 * (qy * qy + qz * qz), 2 * (qx * qy - qz * qw), 2 * (qx * qz + qy * qw)],
-                [2 * (qx * qy + qz * qw), 1 - 2 * (qx * qx + qz * qz), 2 * (qy * qz - qx * qw)],
-                [2 * (qx * qz - qy * qw), 2 * (qy * qz + qx * qw), 1 - 2 * (qx * qx + qy * qy)],
-            ]
-            T[:3, 3] = [tx, ty, tz]
-            poses[round(t * 1000)] = T
-    return poses
-
-
 def bilinear(img, u, v):
     u0 = np.floor(u).astype(int)
     v0 = np.floor(v).astype(int)
@@ -217,7 +195,7 @@ def bilinear(img, u, v):
 
 def cmd_photo(args, depth_model, colour, offset):
     frames = frame_list(args.data)
-    poses = read_trajectory(args.trajectory)
+    poses = pose_matrices(args.trajectory)
     grid_u, grid_v = np.meshgrid(np.arange(W), np.arange(H))
     residuals = []
     pairs = 0

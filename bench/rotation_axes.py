@@ -15,27 +15,7 @@ import argparse
 import sys
 
 import numpy as np
-
-
-def read_tum(path):
-    poses = {}
-    with open(path) as f:
-        for number, line in enumerate(f, 1):
-            if line.startswith("#") or not line.strip():
-                continue
-            v = line.split()
-            if len(v) != 8:
-                sys.exit("%s:%d: expected 8 numbers, got %d" % (path, number, len(v)))
-            t, tx, ty, tz, qx, qy, qz, qw = (float(x) for x in v)
-            poses[round(t * 1000)] = (np.array([tx, ty, tz]), np.array([qx, qy, qz, qw]))
-    return poses
-
-
-def matrix(q):
-    x, y, z, w = q / np.linalg.norm(q)
-    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-                     [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-                     [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
+from tum_trajectory import read_tum, rotation_matrix as matrix
 
 
 def rotation_vector(R):
