@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <mrpt/config/CConfigFileMemory.h>
 
+#include <algorithm>
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 #include <random>
@@ -65,6 +66,34 @@ TEST(OrbExtractor, ExtractsAboutTheRequestedNumberSpreadOverImageAndLevels)
         EXPECT_GT(perLevel[l], 0) << "level " << l;
     // Level 0 gets the largest share: geometric series with factor 1 / 1.2.
     EXPECT_GT(perLevel[0], perLevel[7]);
+}
+
+// A `fill_last` region gets corners only once the rest of the image has none left to give:
+// with the left half marked, a fully textured image fills the whole budget from the right
+// half; a flat right half leaves the budget to the marked left half after all.
+TEST(OrbExtractor, FillLastRegionsGetCornersOnlyAfterTheRest)
+{
+    const features::OrbExtractor orb{features::OrbParameters{}};
+    const cv::Mat img = texturedImage(640, 480, 3);
+    // The mask may have any size: 8 x 6 cells, left half set.
+    cv::Mat leftHalf(6, 8, CV_8UC1, cv::Scalar(0));
+    leftHalf.colRange(0, 4).setTo(255);
+    auto countLeft = [](const features::FeatureSet& fs)
+    {
+        return std::count_if(fs.keypoints.begin(), fs.keypoints.end(),
+                             [](const cv::KeyPoint& kp) { return kp.pt.x < 320.0F; });
+    };
+    const auto plain = orb.extract(img);
+    const auto prioritised = orb.extract(img, leftHalf);
+    EXPECT_GT(countLeft(plain), static_cast<long>(0.4 * static_cast<double>(plain.size())));
+    EXPECT_EQ(countLeft(prioritised), 0) << "the right half has corners enough for the budget";
+    EXPECT_GE(prioritised.size(), 900U) << "the budget is still filled";
+
+    cv::Mat halfFlat = img.clone();
+    halfFlat.colRange(320, 640).setTo(90);
+    const auto fallback = orb.extract(halfFlat, leftHalf);
+    EXPECT_GE(fallback.size(), 900U) << "marked corners fill what the rest cannot";
+    EXPECT_EQ(countLeft(fallback), static_cast<long>(fallback.size()));
 }
 
 TEST(OrbExtractor, SameImageGivesIdenticalFeatures)

@@ -71,7 +71,8 @@ OrbExtractor::OrbExtractor(const OrbParameters& params)
             static_cast<int>(std::floor(std::sqrt(kPatchRadius * kPatchRadius - v * v + 0.5)));
 }
 
-void OrbExtractor::detectLevel(const cv::Mat& level, int wanted,
+void OrbExtractor::detectLevel(const cv::Mat& level, int wanted, const cv::Mat& fill_last,
+                               float scale, cv::Size image_size,
                                std::vector<cv::KeyPoint>& out) const
 {
     // Cells over [border - 3, size - border + 3): FAST never fires within 3 px of its ROI.
@@ -87,6 +88,21 @@ void OrbExtractor::detectLevel(const cv::Mat& level, int wanted,
     {
         cv::KeyPoint kp;
         int rank;
+        bool last;  ///< in `fill_last`
+    };
+    auto inFillLast = [&](const cv::Point2f& p_level)
+    {
+        if (fill_last.empty())
+            return false;
+        const int mx =
+            std::clamp(static_cast<int>(p_level.x * scale * static_cast<float>(fill_last.cols) /
+                                        static_cast<float>(image_size.width)),
+                       0, fill_last.cols - 1);
+        const int my =
+            std::clamp(static_cast<int>(p_level.y * scale * static_cast<float>(fill_last.rows) /
+                                        static_cast<float>(image_size.height)),
+                       0, fill_last.rows - 1);
+        return fill_last.at<uint8_t>(my, mx) != 0;
     };
     std::vector<Ranked> candidates;
     std::vector<cv::KeyPoint> cell;
@@ -111,7 +127,7 @@ void OrbExtractor::detectLevel(const cv::Mat& level, int wanted,
                               return a.response > b.response;
                           return a.pt.y != b.pt.y ? a.pt.y < b.pt.y : a.pt.x < b.pt.x;
                       });
-            int rank = 0;
+            int rank = 0, rankLast = 0;
             for (cv::KeyPoint kp : cell)
             {
                 kp.pt.x += static_cast<float>(cx0);
@@ -123,14 +139,18 @@ void OrbExtractor::detectLevel(const cv::Mat& level, int wanted,
                 if (kp.pt.x >= cx0 + cellW + 3 || kp.pt.y >= cy0 + cellH + 3 ||
                     (c > 0 && kp.pt.x < cx0 + 3) || (r > 0 && kp.pt.y < cy0 + 3))
                     continue;
-                candidates.push_back({kp, rank++});
+                const bool last = inFillLast(kp.pt);
+                candidates.push_back({kp, last ? rankLast++ : rank++, last});
             }
         }
     }
-    // Round robin over the cells: every cell's best corner before any cell's second best.
+    // Round robin over the cells: every cell's best corner before any cell's second best (and
+    // all of that outside `fill_last` before any corner inside it).
     std::sort(candidates.begin(), candidates.end(),
               [](const Ranked& a, const Ranked& b)
               {
+                  if (a.last != b.last)
+                      return b.last;
                   if (a.rank != b.rank)
                       return a.rank < b.rank;
                   if (a.kp.response != b.kp.response)
@@ -194,7 +214,7 @@ void OrbExtractor::describe(const cv::Mat& blurred, const cv::KeyPoint& kp_level
     }
 }
 
-FeatureSet OrbExtractor::extract(const cv::Mat& image) const
+FeatureSet OrbExtractor::extract(const cv::Mat& image, const cv::Mat& fill_last) const
 {
     cv::Mat grey;
     if (image.channels() == 3)
@@ -202,6 +222,7 @@ FeatureSet OrbExtractor::extract(const cv::Mat& image) const
     else
         grey = image;
     CV_Assert(grey.type() == CV_8UC1);
+    CV_Assert(fill_last.empty() || fill_last.type() == CV_8UC1);
 
     FeatureSet fs;
     fs.pyramid = pyramid_;
@@ -222,12 +243,13 @@ FeatureSet OrbExtractor::extract(const cv::Mat& image) const
             level = next;
         }
         levelKps.clear();
-        detectLevel(level, featuresPerLevel_[static_cast<size_t>(l)], levelKps);
+        const float scale = pyramid_.scale[static_cast<size_t>(l)];
+        detectLevel(level, featuresPerLevel_[static_cast<size_t>(l)], fill_last, scale, grey.size(),
+                    levelKps);
         if (levelKps.empty())
             continue;
         cv::Mat blurred;
         cv::GaussianBlur(level, blurred, cv::Size(7, 7), 2.0, 2.0, cv::BORDER_REFLECT_101);
-        const float scale = pyramid_.scale[static_cast<size_t>(l)];
         for (cv::KeyPoint& kp : levelKps)
         {
             kp.angle = orientation(level, kp.pt);

@@ -18,7 +18,10 @@ public:
 
     /// Keypoints and descriptors of a CV_8UC1 image (a CV_8UC3 BGR image is converted).
     /// `undistorted`, `depth` and `rightU` are left for undistortKeypoints() / assignDepth().
-    FeatureSet extract(const cv::Mat& image) const;
+    /// `fill_last` (optional, CV_8UC1 of any size, stretched over the image): corners where it
+    /// is non-zero are taken only after every other cell's, so that the budget goes to the rest
+    /// of the image first (e.g. regions the dynamic filter found moving).
+    FeatureSet extract(const cv::Mat& image, const cv::Mat& fill_last = {}) const;
 
     const OrbParameters& parameters() const { return params_; }
     const ScalePyramid& pyramid() const { return pyramid_; }
@@ -32,7 +35,8 @@ private:
         int8_t x1, y1, x2, y2;
     };
 
-    void detectLevel(const cv::Mat& level, int wanted, std::vector<cv::KeyPoint>& out) const;
+    void detectLevel(const cv::Mat& level, int wanted, const cv::Mat& fill_last, float scale,
+                     cv::Size image_size, std::vector<cv::KeyPoint>& out) const;
     float orientation(const cv::Mat& level, cv::Point2f p) const;
     void describe(const cv::Mat& blurred, const cv::KeyPoint& kp_level, uint8_t* out) const;
 
