@@ -52,14 +52,15 @@ struct Prepared
     features::FeatureSet features;
 };
 
-/// `blank_columns`: the depth image's first columns are set to 0 (no measurement).
+/// `blank_columns`: the depth image's first columns are set to 0 (no measurement);
+/// `fill_last`: as for OrbExtractor::extract.
 Prepared prepare(sim::SequenceGenerator& gen, const features::OrbExtractor& orb, size_t i,
-                 int blank_columns = 0)
+                 int blank_columns = 0, const cv::Mat& fill_last = {})
 {
     Prepared p{gen.frame(i), {}};
     if (blank_columns > 0)
         p.frame.rendered.depth.colRange(0, blank_columns).setTo(0.0F);
-    p.features = orb.extract(p.frame.rendered.colour);
+    p.features = orb.extract(p.frame.rendered.colour, fill_last);
     features::undistortKeypoints(p.features, gen.options().camera);
     features::assignDepth(p.features, p.frame.rendered.depth, 40.0, 0.1, 8.0, 1e9);
     return p;
@@ -70,15 +71,28 @@ struct Scores
     int tp = 0, fp = 0, fn = 0, tn = 0;
     /// Keypoints the temporal evidence marked "was dynamic", on movers and on static points.
     int wasOnMovers = 0, wasOnStatic = 0;
+    /// Pixels of the evaluated frames on movers and on the static scene, and how many of each
+    /// the filter's moverRegions() after that frame covered.
+    long moverPixels = 0, moverCovered = 0, staticPixels = 0, staticCovered = 0;
     double recall() const { return tp + fn > 0 ? static_cast<double>(tp) / (tp + fn) : 1.0; }
     double precision() const { return tp + fp > 0 ? static_cast<double>(tp) / (tp + fp) : 1.0; }
 };
 
+struct RunOptions
+{
+    int blank_columns = 0;      ///< as for prepare()
+    float only_left_of = 0.0F;  ///< > 0: score only keypoints left of this column
+    /// The filter's extraction_priority_above (when moverRegions() gives regions).
+    double regions_above = dynamic::DynamicParameters{}.extraction_priority_above;
+    /// Each frame's extraction takes the previous frame's moverRegions() as its `fill_last`,
+    /// as the pipeline does.
+    bool feed_regions = false;
+};
+
 // Runs the filter over frames [first, first + n) and scores its decisions against the
-// ground-truth dynamic masks at the keypoints (only keypoints left of `only_left_of` when > 0;
-// `blank_columns` as for prepare()).
+// ground-truth dynamic masks at the keypoints.
 Scores runFilter(const std::string& preset, dynamic::FilterMode mode, size_t first, size_t n,
-                 int blank_columns = 0, float only_left_of = 0.0F)
+                 const RunOptions& opt = {})
 {
     sim::GeneratorOptions o;
     o.preset = preset;
@@ -86,20 +100,35 @@ Scores runFilter(const std::string& preset, dynamic::FilterMode mode, size_t fir
     const features::OrbExtractor orb{features::OrbParameters{}};
     dynamic::DynamicParameters dp;
     dp.mode = mode;
+    dp.extraction_priority_above = opt.regions_above;
     dynamic::DynamicFilter filter(dp);
     Scores s;
     for (size_t i = first; i < first + n; ++i)
     {
-        const Prepared p = prepare(gen, orb, i, blank_columns);
+        const Prepared p = prepare(gen, orb, i, opt.blank_columns,
+                                   opt.feed_regions ? filter.moverRegions() : cv::Mat());
         const auto r =
             filter.process(p.frame.rendered.colour, p.frame.rendered.depth, p.features, o.camera);
         if (i == first)
             continue;
+        const cv::Mat& truthMask = p.frame.rendered.dynamic;
+        cv::Mat regions = filter.moverRegions();
+        if (regions.empty())
+            regions = cv::Mat::zeros(truthMask.size(), CV_8UC1);
+        else
+            cv::resize(regions, regions, truthMask.size(), 0, 0, cv::INTER_NEAREST);
+        const long movers = cv::countNonZero(truthMask);
+        const long covered = cv::countNonZero(regions);
+        const long moversCovered = cv::countNonZero(truthMask & regions);
+        s.moverPixels += movers;
+        s.moverCovered += moversCovered;
+        s.staticPixels += static_cast<long>(truthMask.total()) - movers;
+        s.staticCovered += covered - moversCovered;
         EXPECT_TRUE(r.egoMotion.valid) << i;
         for (size_t k = 0; k < p.features.size(); ++k)
         {
             const auto& pt = p.features.keypoints[k].pt;
-            if (only_left_of > 0.0F && pt.x >= only_left_of)
+            if (opt.only_left_of > 0.0F && pt.x >= opt.only_left_of)
                 continue;
             const bool truth =
                 p.frame.rendered.dynamic.at<uint8_t>(static_cast<int>(std::lround(pt.y)),
@@ -410,6 +439,83 @@ TEST(DynamicFilter, StrongModeFindsMoreOfThePeopleAndNoMoreStaticPoints)
     EXPECT_LT(still.wasOnStatic, 0.02 * (still.fp + still.tn));
 }
 
+// moverRegions(): cells where the frame's keypoints were mostly dynamic. They cover most of the
+// people and little of the background, and fed to the next frame's extraction they move
+// features from the people to the background without losing the people. Here every frame
+// with a dynamic keypoint gives regions (extraction_priority_above = 0); by default only
+// crowded frames do, and walking_xyz's are not.
+TEST(DynamicFilter, MoverRegionsCoverThePeopleAndGiveTheBackgroundMoreFeatures)
+{
+    RunOptions always;
+    always.regions_above = 0.0;
+    const Scores plain = runFilter("walking_xyz", dynamic::FilterMode::Strong, 40, 8, always);
+    always.feed_regions = true;
+    const Scores fed = runFilter("walking_xyz", dynamic::FilterMode::Strong, 40, 8, always);
+    ASSERT_GT(plain.moverPixels, 0);
+    const double moverCoverage = static_cast<double>(plain.moverCovered) / plain.moverPixels;
+    const double staticCoverage = static_cast<double>(plain.staticCovered) / plain.staticPixels;
+    std::printf(
+        "walking_xyz frames 40-47: regions cover %.3f of the people, %.3f of the background; "
+        "static keypoints %d -> %d with the regions fed back, people keypoints %d -> %d, recall "
+        "%.3f -> %.3f, precision %.3f -> %.3f\n",
+        moverCoverage, staticCoverage, plain.fp + plain.tn, fed.fp + fed.tn, plain.tp + plain.fn,
+        fed.tp + fed.fn, plain.recall(), fed.recall(), plain.precision(), fed.precision());
+    EXPECT_GT(moverCoverage, 0.5);
+    EXPECT_LT(staticCoverage, 0.1);
+    EXPECT_GT(fed.fp + fed.tn, plain.fp + plain.tn + 100) << "more static keypoints";
+    EXPECT_LT(fed.tp + fed.fn, plain.tp + plain.fn) << "fewer keypoints on the people";
+    EXPECT_GT(fed.recall(), 0.8);
+    EXPECT_GT(fed.precision(), 0.8);
+
+    // A static scene has (almost) no regions; the paper mode gives none.
+    const Scores still = runFilter("static_xyz", dynamic::FilterMode::Strong, 30, 6, always);
+    EXPECT_LT(static_cast<double>(still.staticCovered) / still.staticPixels, 0.01);
+    const Scores paper = runFilter("walking_xyz", dynamic::FilterMode::Paper, 40, 4, always);
+    EXPECT_EQ(paper.moverCovered + paper.staticCovered, 0);
+    // walking_xyz is not crowded (under half the keypoints dynamic): no regions by default.
+    const Scores byDefault = runFilter("walking_xyz", dynamic::FilterMode::Strong, 40, 8);
+    EXPECT_EQ(byDefault.moverCovered + byDefault.staticCovered, 0);
+}
+
+// Only frames with more than extraction_priority_above of their keypoints dynamic give regions.
+TEST(DynamicFilter, MoverRegionsOnlyAfterCrowdedFrames)
+{
+    sim::GeneratorOptions o;
+    o.preset = "walking_xyz";
+    sim::SequenceGenerator gen(o);
+    const features::OrbExtractor orb{features::OrbParameters{}};
+    dynamic::DynamicParameters dp;
+    dp.extraction_priority_above = 0.0;
+    dynamic::DynamicFilter always(dp);
+    dp.extraction_priority_above = 1.0;
+    dynamic::DynamicFilter never(dp);
+    double fraction = 0.0;
+    for (size_t i = 40; i < 43; ++i)
+    {
+        const Prepared p = prepare(gen, orb, i);
+        const auto r =
+            always.process(p.frame.rendered.colour, p.frame.rendered.depth, p.features, o.camera);
+        never.process(p.frame.rendered.colour, p.frame.rendered.depth, p.features, o.camera);
+        fraction = static_cast<double>(r.numDynamic()) / static_cast<double>(p.features.size());
+    }
+    ASSERT_GT(fraction, 0.05);
+    EXPECT_FALSE(always.moverRegions().empty());
+    EXPECT_TRUE(never.moverRegions().empty());
+    // Just below and just above the last frame's dynamic fraction.
+    dp.extraction_priority_above = fraction + 0.01;
+    dynamic::DynamicFilter above(dp);
+    dp.extraction_priority_above = fraction - 0.01;
+    dynamic::DynamicFilter below(dp);
+    for (size_t i = 40; i < 43; ++i)
+    {
+        const Prepared p = prepare(gen, orb, i);
+        above.process(p.frame.rendered.colour, p.frame.rendered.depth, p.features, o.camera);
+        below.process(p.frame.rendered.colour, p.frame.rendered.depth, p.features, o.camera);
+    }
+    EXPECT_TRUE(above.moverRegions().empty());
+    EXPECT_FALSE(below.moverRegions().empty());
+}
+
 // Keypoints with no depth anywhere near them (here: the left 40 % of the depth image blanked)
 // are static when their flow lies on the segment of predictions for some depth; the frame's
 // median depth alone would flag the nearer and farther ones of a moving camera (hand-held
@@ -418,9 +524,9 @@ TEST(DynamicFilter, StrongModeFindsMoreOfThePeopleAndNoMoreStaticPoints)
 TEST(DynamicFilter, StrongModeKeepsStaticPointsOfUnknownDepth)
 {
     const Scores withDepth =
-        runFilter("static_handheld", dynamic::FilterMode::Strong, 30, 10, 0, 240.0F);
+        runFilter("static_handheld", dynamic::FilterMode::Strong, 30, 10, {0, 240.0F});
     const Scores blanked =
-        runFilter("static_handheld", dynamic::FilterMode::Strong, 30, 10, 256, 240.0F);
+        runFilter("static_handheld", dynamic::FilterMode::Strong, 30, 10, {256, 240.0F});
     ASSERT_GT(blanked.fp + blanked.tn, 2000);
     EXPECT_LT(blanked.fp, 1.5 * withDepth.fp + 10)
         << blanked.fp << " false positives without depth, " << withDepth.fp << " with";
@@ -496,5 +602,11 @@ TEST(DynamicParameters, InvalidValuesNameTheKey)
     cfg2.write("dynamic", "lk_window", 20);
     dynamic::DynamicParameters p2;
     EXPECT_NE(test::inputErrorOf([&] { p2.loadFromConfigFile(cfg2, ""); }).find("lk_window"),
+              std::string::npos);
+    mrpt::config::CConfigFileMemory cfg3;
+    cfg3.write("dynamic", "extraction_priority_above", 1.5);
+    dynamic::DynamicParameters p3;
+    EXPECT_NE(test::inputErrorOf([&] { p3.loadFromConfigFile(cfg3, ""); })
+                  .find("extraction_priority_above = 1.5"),
               std::string::npos);
 }

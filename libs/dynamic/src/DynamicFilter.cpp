@@ -481,6 +481,47 @@ std::vector<bool> DynamicFilter::dynamicBefore(const std::vector<uint8_t>& statu
     return out;
 }
 
+cv::Mat DynamicFilter::moverRegions() const
+{
+    if (params_.mode != FilterMode::Strong || history_.empty())
+        return {};
+    const PastFrame& last = history_.back();
+    const DecisionCells& c = last.cells;
+    if (c.all.empty() || last.dynamic.empty())
+        return {};
+    const auto dynamicKeypoints = std::count(last.dynamic.begin(), last.dynamic.end(), true);
+    if (static_cast<double>(dynamicKeypoints) <=
+        params_.extraction_priority_above * static_cast<double>(last.dynamic.size()))
+        return {};
+    // 5 x 5 cells (40 px): a 3 x 3 block holds about two keypoints, too few to cover a person.
+    constexpr int kRadius = 2;
+    cv::Mat mask(c.rows, c.cols, CV_8UC1, cv::Scalar(0));
+    bool any = false;
+    for (int y = 0; y < c.rows; ++y)
+    {
+        for (int x = 0; x < c.cols; ++x)
+        {
+            int all = 0, dynamic = 0;
+            for (int v = std::max(0, y - kRadius); v <= std::min(c.rows - 1, y + kRadius); ++v)
+            {
+                for (int u = std::max(0, x - kRadius); u <= std::min(c.cols - 1, x + kRadius); ++u)
+                {
+                    const size_t k = static_cast<size_t>(v) * static_cast<size_t>(c.cols) +
+                                     static_cast<size_t>(u);
+                    all += c.all[k];
+                    dynamic += c.dynamic[k];
+                }
+            }
+            if (dynamic >= 2 && 2 * dynamic > all)
+            {
+                mask.at<uint8_t>(y, x) = 255;
+                any = true;
+            }
+        }
+    }
+    return any ? mask : cv::Mat();
+}
+
 DynamicFilter::DecisionCells DynamicFilter::DecisionCells::count(
     const features::FeatureSet& features, const std::vector<bool>& dynamic, int width, int height)
 {

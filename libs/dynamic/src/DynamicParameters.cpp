@@ -58,6 +58,8 @@ void DynamicParameters::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
     region_depth = cfg.read_double(s, "region_depth", region_depth);
     region_min_neighbours = cfg.read_int(s, "region_min_neighbours", region_min_neighbours);
     isolated_fraction = cfg.read_double(s, "isolated_fraction", isolated_fraction);
+    extraction_priority_above =
+        cfg.read_double(s, "extraction_priority_above", extraction_priority_above);
     if (!(pnp_threshold > 0.0))
         throw core::InputError(
             mrpt::format("[dynamic] pnp_threshold = %g must be > 0", pnp_threshold));
@@ -83,6 +85,10 @@ void DynamicParameters::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
     if (!(occlusion_margin > 0.0))
         throw core::InputError(
             mrpt::format("[dynamic] occlusion_margin = %g must be > 0", occlusion_margin));
+    if (!(extraction_priority_above >= 0.0 && extraction_priority_above <= 1.0))
+        throw core::InputError(
+            mrpt::format("[dynamic] extraction_priority_above = %g must be in [0, 1]",
+                         extraction_priority_above));
     if (!(isolated_fraction >= 0.0 && isolated_fraction < 1.0))
         throw core::InputError(
             mrpt::format("[dynamic] isolated_fraction = %g must be in [0, 1)", isolated_fraction));
@@ -144,5 +150,6 @@ void DynamicParameters::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
     cfg.write(s, "region_depth", region_depth);
     cfg.write(s, "region_min_neighbours", region_min_neighbours);
     cfg.write(s, "isolated_fraction", isolated_fraction);
+    cfg.write(s, "extraction_priority_above", extraction_priority_above);
 }
 }  // namespace smap::dynamic

@@ -30,7 +30,9 @@ SemanticMapper::PreparedFrame SemanticMapper::prepare(const core::RgbdFrame& fra
     PreparedFrame p;
     p.rgbd = frame;
     const auto t0 = std::chrono::steady_clock::now();
-    p.features = slam_->prepare(frame);
+    // Regions the previous frame found moving get features last (people filling most of the
+    // view would otherwise take most of the budget from the background).
+    p.features = slam_->prepare(frame, dynamicFilter_.moverRegions());
     p.extractionMs = core::millisecondsSince(t0);
     p.dynamic =
         dynamicFilter_.process(frame.colour, frame.depth, p.features.features, frame.camera);

@@ -28,14 +28,14 @@ RgbdSlam::~RgbdSlam()
     mapper_.reset();
 }
 
-Frame RgbdSlam::prepare(const core::RgbdFrame& rgbd) const
+Frame RgbdSlam::prepare(const core::RgbdFrame& rgbd, const cv::Mat& fill_last) const
 {
     Frame f;
     f.timestamp = rgbd.timestamp;
     f.camera = rgbd.camera;
     f.bf = trackingParams_.virtual_baseline * rgbd.camera.fx;
     f.closeDepth = trackingParams_.close_depth;
-    f.features = extractor_->extract(rgbd.colour);
+    f.features = extractor_->extract(rgbd.colour, fill_last);
     features::undistortKeypoints(f.features, rgbd.camera);
     features::assignDepth(
         f.features, rgbd.depth, f.bf, trackingParams_.min_depth, trackingParams_.max_depth,

@@ -78,6 +78,13 @@ public:
     /// write into it afterwards.
     DynamicResult process(const cv::Mat& colour, const cv::Mat& depth,
                           const features::FeatureSet& features, const core::PinholeCamera& camera);
+    /// Strong mode, when more than extraction_priority_above of the last processed frame's
+    /// keypoints were dynamic: where they were mostly dynamic, as a CV_8UC1 mask of 8 px
+    /// cells (non-zero: a cell whose 5 x 5 neighbourhood held at least two keypoints, more
+    /// than half of them dynamic), for the next frame's extraction (OrbExtractor's
+    /// `fill_last`). Empty otherwise, and when no cell qualifies.
+    cv::Mat moverRegions() const;
+
     void reset()
     {
         history_.clear();

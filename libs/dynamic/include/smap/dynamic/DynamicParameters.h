@@ -73,6 +73,11 @@ struct DynamicParameters : public mrpt::config::CLoadableOptions
     /// region_min_neighbours depth-similar neighbours of which at most this fraction is
     /// dynamic, stays static (0 = off).
     double isolated_fraction = 0.34;
+    /// Crowded frames: when more than this fraction of a frame's keypoints is dynamic, the
+    /// next frame's ORB extraction takes corners where they were mostly dynamic only after
+    /// every other region's (moverRegions()), so that people filling most of the view do not
+    /// take most of the feature budget from the background. 1 = never, 0 = every frame.
+    double extraction_priority_above = 0.5;
 
     void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
                             const std::string& section) override;

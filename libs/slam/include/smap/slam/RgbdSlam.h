@@ -36,7 +36,8 @@ public:
     RgbdSlam& operator=(const RgbdSlam&) = delete;
 
     /// Features, undistorted keypoints, depth and the thumbnail of a frame (no map access).
-    Frame prepare(const core::RgbdFrame& rgbd) const;
+    /// `fill_last`: see OrbExtractor::extract (regions whose corners are taken last).
+    Frame prepare(const core::RgbdFrame& rgbd, const cv::Mat& fill_last = {}) const;
     /// Tracks a prepared frame; frame.weights (empty = all 1) carry the outside feature mask.
     TrackingResult track(Frame frame);
     /// prepare + track, with an optional CV_8UC1 mask (0 = do not use features there).
