@@ -465,17 +465,7 @@ std::vector<bool> DynamicFilter::dynamicBefore(const std::vector<uint8_t>& statu
         const cv::Point2f& q = status[i] != 0 ? tracked[i] : predicted[i];
         const int cx = static_cast<int>(std::floor(q.x / DecisionCells::kCell));
         const int cy = static_cast<int>(std::floor(q.y / DecisionCells::kCell));
-        int dyn = 0, all = 0;
-        for (int y = std::max(0, cy - 1); y <= std::min(cells.rows - 1, cy + 1); ++y)
-        {
-            for (int x = std::max(0, cx - 1); x <= std::min(cells.cols - 1, cx + 1); ++x)
-            {
-                const auto k = static_cast<size_t>(y) * static_cast<size_t>(cells.cols) +
-                               static_cast<size_t>(x);
-                dyn += cells.dynamic[k];
-                all += cells.all[k];
-            }
-        }
+        const auto [all, dyn] = cells.around(cx, cy, 1);
         out[i] = 2 * dyn > all;
     }
     return out;
@@ -501,17 +491,7 @@ cv::Mat DynamicFilter::moverRegions() const
     {
         for (int x = 0; x < c.cols; ++x)
         {
-            int all = 0, dynamic = 0;
-            for (int v = std::max(0, y - kRadius); v <= std::min(c.rows - 1, y + kRadius); ++v)
-            {
-                for (int u = std::max(0, x - kRadius); u <= std::min(c.cols - 1, x + kRadius); ++u)
-                {
-                    const size_t k = static_cast<size_t>(v) * static_cast<size_t>(c.cols) +
-                                     static_cast<size_t>(u);
-                    all += c.all[k];
-                    dynamic += c.dynamic[k];
-                }
-            }
+            const auto [all, dynamic] = c.around(x, y, kRadius);
             if (dynamic >= 2 && 2 * dynamic > all)
             {
                 mask.at<uint8_t>(y, x) = 255;
@@ -520,6 +500,22 @@ cv::Mat DynamicFilter::moverRegions() const
         }
     }
     return any ? mask : cv::Mat();
+}
+
+std::pair<int, int> DynamicFilter::DecisionCells::around(int cx, int cy, int radius) const
+{
+    int n = 0, nDynamic = 0;
+    for (int y = std::max(0, cy - radius); y <= std::min(rows - 1, cy + radius); ++y)
+    {
+        for (int x = std::max(0, cx - radius); x <= std::min(cols - 1, cx + radius); ++x)
+        {
+            const size_t k =
+                static_cast<size_t>(y) * static_cast<size_t>(cols) + static_cast<size_t>(x);
+            n += all[k];
+            nDynamic += dynamic[k];
+        }
+    }
+    return {n, nDynamic};
 }
 
 DynamicFilter::DecisionCells DynamicFilter::DecisionCells::count(

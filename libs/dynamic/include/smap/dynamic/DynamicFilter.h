@@ -8,6 +8,7 @@
 #include <functional>
 #include <opencv2/core/mat.hpp>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "smap/core/PinholeCamera.h"
@@ -120,6 +121,9 @@ private:
 
         static DecisionCells count(const features::FeatureSet& features,
                                    const std::vector<bool>& dynamic, int width, int height);
+        /// Keypoints and dynamic keypoints in the (2 radius + 1)^2 cells around cell (cx, cy),
+        /// clipped to the grid.
+        std::pair<int, int> around(int cx, int cy, int radius) const;
     };
 
     /// A frame kept for comparison with later ones.
