@@ -116,6 +116,27 @@ TEST(EvalApp, KeypointsScoresDecisionsAgainstMasks)
     EXPECT_NE(json.find("\"true_positives\": 3"), std::string::npos) << json;
     EXPECT_NE(json.find("\"false_negatives\": 1"), std::string::npos) << json;
 
+    // An edge margin of 1 px leaves out the keypoints next to the mask edge (columns 4 and 5):
+    // frame 2's (4, 9) true positive; frame 1's are 2 or more px away.
+    std::ostringstream margin;
+    ASSERT_EQ(app.run({"keypoints", dir / "masks", dir / "debug", "--edge-margin", "1"}, margin),
+              0);
+    EXPECT_NE(margin.str().find("frames 2  recall 0.6667  precision 0.6667  (tp 2 fp 1 fn 1 tn "
+                                "2)  left out within 1 px of a mask edge: 1"),
+              std::string::npos)
+        << margin.str();
+    // 3 px: every keypoint of column 2 or 7 is near the edge too; only the corners' (1, 1)
+    // and (9, 9) stay.
+    std::ostringstream wide;
+    ASSERT_EQ(app.run({"keypoints", dir / "masks", dir / "debug", "--edge-margin", "3"}, wide), 0);
+    EXPECT_NE(wide.str().find("(tp 1 fp 0 fn 0 tn 1)  left out within 3 px of a mask edge: 5"),
+              std::string::npos)
+        << wide.str();
+    EXPECT_THROW(app.run({"keypoints", dir / "masks", dir / "debug", "--edge-margin", "-1"}, out),
+                 core::InputError);
+    EXPECT_THROW(app.run({"ate", dir / "a.txt", dir / "b.txt", "--edge-margin", "1"}, out),
+                 core::InputError);
+
     // A keypoint outside the mask, or a missing mask, is an input error naming the file.
     writeFile(dir / "debug/000003.csv", header + "12,2,1,9,1,1,0,0,0,1\n");
     ASSERT_TRUE(cv::imwrite(dir / "masks/000003.png", mask));

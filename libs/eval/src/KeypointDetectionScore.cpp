@@ -5,6 +5,7 @@
 #include <cmath>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 #include <sstream>
 #include <vector>
 
@@ -27,6 +28,7 @@ KeypointDetectionScore& KeypointDetectionScore::operator+=(const KeypointDetecti
     falseNegatives += o.falseNegatives;
     trueNegatives += o.trueNegatives;
     frames += o.frames;
+    nearEdge += o.nearEdge;
     return *this;
 }
 
@@ -50,13 +52,16 @@ core::JsonValue KeypointDetectionScore::toJson() const
         .set("false_positives", static_cast<double>(falsePositives))
         .set("false_negatives", static_cast<double>(falseNegatives))
         .set("true_negatives", static_cast<double>(trueNegatives));
+    j.set("left_out_near_mask_edges", static_cast<double>(nearEdge));
     j.set("recall", recall()).set("precision", precision());
     return j;
 }
 
 KeypointDetectionScore scoreKeypointFrame(const std::string& evidence_csv,
-                                          const std::string& mask_png)
+                                          const std::string& mask_png, int edge_margin)
 {
+    if (edge_margin < 0)
+        throw core::InputError(mrpt::format("edge margin %d must be >= 0", edge_margin));
     std::ifstream in(evidence_csv);
     if (!in)
         throw core::InputError("cannot read keypoint evidence '" + evidence_csv + "'");
@@ -70,6 +75,18 @@ KeypointDetectionScore scoreKeypointFrame(const std::string& evidence_csv,
     const cv::Mat mask = cv::imread(mask_png, cv::IMREAD_UNCHANGED);
     if (mask.empty() || mask.type() != CV_8UC1)
         throw core::InputError("'" + mask_png + "' is not an 8-bit single-channel mask");
+    // Pixels whose square neighbourhood holds both labels: the dilated and eroded masks differ.
+    cv::Mat nearEdge;
+    if (edge_margin > 0)
+    {
+        const cv::Mat binary = mask != 0;
+        const cv::Mat box = cv::getStructuringElement(
+            cv::MORPH_RECT, cv::Size(2 * edge_margin + 1, 2 * edge_margin + 1));
+        cv::Mat grown, shrunk;
+        cv::dilate(binary, grown, box, cv::Point(-1, -1), 1, cv::BORDER_REPLICATE);
+        cv::erode(binary, shrunk, box, cv::Point(-1, -1), 1, cv::BORDER_REPLICATE);
+        nearEdge = grown != shrunk;
+    }
     score.frames = 1;
     size_t row = 1;
     while (std::getline(in, line))
@@ -89,6 +106,11 @@ KeypointDetectionScore scoreKeypointFrame(const std::string& evidence_csv,
             throw core::InputError(mrpt::format(
                 "'%s' line %zu: '%s' is not a keypoint inside the %dx%d mask '%s'",
                 evidence_csv.c_str(), row, line.c_str(), mask.cols, mask.rows, mask_png.c_str()));
+        if (!nearEdge.empty() && nearEdge.at<uint8_t>(static_cast<int>(y), static_cast<int>(x)))
+        {
+            score.nearEdge++;
+            continue;
+        }
         score.add(mask.at<uint8_t>(static_cast<int>(y), static_cast<int>(x)) != 0,
                   cells.back() == "1");
     }

@@ -31,9 +31,11 @@ void writeJson(const std::string& path, const core::JsonValue& j)
 }
 
 /// smap-eval keypoints: every DEBUG_DIR/*.csv against MASK_DIR/<same stem>.png.
-int scoreKeypoints(const std::string& maskDir, const std::string& debugDir,
+int scoreKeypoints(const std::string& maskDir, const std::string& debugDir, int edgeMargin,
                    const std::optional<std::string>& json, std::ostream& out)
 {
+    if (edgeMargin < 0)
+        throw core::InputError(mrpt::format("--edge-margin %d must be >= 0", edgeMargin));
     namespace fs = std::filesystem;
     if (!fs::is_directory(maskDir) || !fs::is_directory(debugDir))
         throw core::InputError(
@@ -53,11 +55,15 @@ int scoreKeypoints(const std::string& maskDir, const std::string& debugDir,
         if (!fs::exists(mask))
             throw core::InputError(mrpt::format("'%s' has no ground-truth mask '%s'",
                                                 t.string().c_str(), mask.string().c_str()));
-        total += eval::scoreKeypointFrame(t.string(), mask.string());
+        total += eval::scoreKeypointFrame(t.string(), mask.string(), edgeMargin);
     }
-    out << mrpt::format("frames %zu  recall %.4f  precision %.4f  (tp %zu fp %zu fn %zu tn %zu)\n",
+    out << mrpt::format("frames %zu  recall %.4f  precision %.4f  (tp %zu fp %zu fn %zu tn %zu)",
                         total.frames, total.recall(), total.precision(), total.truePositives,
                         total.falsePositives, total.falseNegatives, total.trueNegatives);
+    if (edgeMargin > 0)
+        out << mrpt::format("  left out within %d px of a mask edge: %zu", edgeMargin,
+                            total.nearEdge);
+    out << "\n";
     if (json)
         writeJson(*json, total.toJson());
     return kExitOk;
@@ -138,14 +144,16 @@ std::string EvalApp::usage()
            "                       [--offset S] [--scale]\n"
            "  smap-eval rpe GT EST [--delta D] [--delta-unit s|frames] [--json FILE] [--max-dt S]\n"
            "                       [--offset S]\n"
-           "  smap-eval keypoints MASK_DIR DEBUG_DIR [--json FILE]\n"
+           "  smap-eval keypoints MASK_DIR DEBUG_DIR [--edge-margin PX] [--json FILE]\n"
            "  smap-eval segmentation GT_DIR PRED_DIR [--classes a,b] [--void ID|none]\n"
            "                       [--min-area F] [--iou-threshold T] [--band PX] [--labels CSV]\n"
            "                       [--json FILE]\n"
            "\n"
            "keypoints: dynamic-keypoint recall and precision of semantic-mapper --dynamic-debug\n"
            "  tables (DEBUG_DIR/NNNNNN.csv) against ground-truth masks (MASK_DIR/NNNNNN.png,\n"
-           "  e.g. the dynamic/ folder smap-synth writes).\n"
+           "  e.g. the dynamic/ folder smap-synth writes). --edge-margin PX leaves out the\n"
+           "  keypoints within PX of a mask edge (default 0: all scored), whose label is a coin\n"
+           "  flip for a corner on an outline.\n"
            "segmentation: the paper's Table III per-class frame scores (TP/FN/FP/TN, FPR, FNR,\n"
            "  Re, Pr, PWC; correctly segmented = IoU >= --iou-threshold, default 0.5), pixel IoU\n"
            "  and IoU within --band px (default 5) of true class edges, for every PRED_DIR/*.png\n"
@@ -170,7 +178,7 @@ int EvalApp::run(const std::vector<std::string>& args, std::ostream& out)
     cl.option("json").option("plot").option("axes").option("max-dt").option("offset");
     cl.option("delta").option("delta-unit").flag("scale").flag("help");
     cl.option("classes").option("void").option("min-area").option("iou-threshold").option("band");
-    cl.option("labels");
+    cl.option("labels").option("edge-margin");
     cl.parse(args);
     if (cl.has("help"))
     {
@@ -188,8 +196,11 @@ int EvalApp::run(const std::vector<std::string>& args, std::ostream& out)
         for (const char* o : {"classes", "void", "min-area", "iou-threshold", "band", "labels"})
             if (cl.has(o))
                 throw core::InputError(std::string("--") + o + " applies to 'segmentation' only");
+    if (pos[0] != "keypoints" && cl.has("edge-margin"))
+        throw core::InputError("--edge-margin applies to 'keypoints' only");
     if (pos[0] == "keypoints")
-        return scoreKeypoints(pos[1], pos[2], cl.value("json"), out);
+        return scoreKeypoints(pos[1], pos[2], static_cast<int>(cl.integer("edge-margin", 0)),
+                              cl.value("json"), out);
     if (pos[0] == "segmentation")
         return scoreSegmentation(pos[1], pos[2], cl, out);
     const auto gt = io::readTumTrajectory(pos[1]);
