@@ -9,6 +9,8 @@
 # ($SMAP_EVAL_CACHE, default /tmp/smap-eval-cache) when missing. About 20 minutes on 2 cores.
 # Usage: bench/results.sh [BUILD_DIR]   (writes $SMAP_RESULTS_OUT, default docs/results.md)
 #        SMAP_RESULTS_REPORT_ONLY=1 bench/results.sh   rewrites the page from the last runs' files
+#        SMAP_RESULTS_SPEED_ONLY=1 bench/results.sh    re-measures only the speed (e.g. with
+#        SMAP_RESULTS_SPEED_RUNS=5 on a busy machine), keeping the last Table II / III runs
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 build="${1:-$root/build}"
@@ -27,6 +29,7 @@ list="$cache/results-runs.txt"
 speed="$cache/results-speed.txt"
 commit_file="$cache/results-commit.txt"
 if [ "${SMAP_RESULTS_REPORT_ONLY:-0}" != 1 ]; then
+if [ "${SMAP_RESULTS_SPEED_ONLY:-0}" != 1 ]; then
 : >"$list"
 (cd "$root" && git rev-parse --short HEAD) >"$commit_file"
 # one SEQUENCE MODE INPUT CAMERA_CONFIG [args...]: runs semantic-mapper, records its metrics.json
@@ -66,6 +69,11 @@ if [ -d "$seven" ]; then
                 --set tum.depth_factor=5000 --gt-void none
         done
     fi
+fi
+else
+    [ -s "$list" ] || { echo "results.sh: no earlier Table II / III runs in $list" >&2; exit 2; }
+    (cd "$root" && git rev-parse --short HEAD) | cmp -s - "$commit_file" ||
+        echo "results.sh: the Table II / III runs are from commit $(cat "$commit_file")" >&2
 fi
 
 echo "End-to-end speed on 7-Scenes ($speed_runs runs):" >&2
