@@ -395,7 +395,12 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
     tracking.set("keyframes", static_cast<uint64_t>(mapper.slam().numKeyFrames()))
         .set("keyframes_culled", static_cast<uint64_t>(ms.keyframesCulled))
         .set("map_points", static_cast<uint64_t>(mapper.slam().numPoints()))
-        .set("local_ba_runs", static_cast<uint64_t>(ms.baRuns));
+        .set("local_ba_runs", static_cast<uint64_t>(ms.baRuns))
+        .set("global_ba_keyframes",
+             static_cast<uint64_t>(mapper.slam().globalBundleAdjustmentStats().keyframes))
+        .set("global_ba_outliers_removed",
+             static_cast<uint64_t>(mapper.slam().globalBundleAdjustmentStats().outliersRemoved))
+        .set("global_ba_seconds", mapper.slam().globalBundleAdjustmentSeconds());
     metrics.set("tracking", tracking);
     auto kf = core::JsonValue::object();
     kf.set("submitted", static_cast<uint64_t>(mapper.keyframesSubmitted()))

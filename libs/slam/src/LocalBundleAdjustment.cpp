@@ -45,36 +45,29 @@ struct BaObservation
     Observation2D3 obs;
     bool outlier = false;
 };
-}  // namespace
 
-LocalBundleAdjustmentStats localBundleAdjustment(const std::shared_ptr<KeyFrame>& keyframe,
-                                                 Map& map, const LocalMappingParameters& params,
-                                                 const std::atomic<bool>& abort)
+struct BaProblem
 {
-    LocalBundleAdjustmentStats stats;
     std::vector<BaKeyFrame> kfs;
     std::vector<BaPoint> pts;
     std::vector<BaObservation> obs;
+    std::map<uint64_t, size_t> kfIndex;
+
+    // Hold the map mutex.
+    void addKeyFrame(const Map& map, const KeyFrame& kf, bool fixed)
     {
-        std::lock_guard<std::mutex> lock(map.mutex());
-        if (keyframe->isBad())
-            return stats;
-        std::map<uint64_t, size_t> kfIndex, ptIndex;
-        auto addKf = [&](KeyFrame* kf, bool fixed)
-        {
-            const auto it = map.allKeyFrames().find(kf->id());
-            kfIndex[kf->id()] = kfs.size();
-            BaKeyFrame b{it->second, {}, fixed, CameraModel(kf->camera, kf->bf)};
-            poseToParams(kf->T_cam_world(), b.pose.data());
-            kfs.push_back(b);
-        };
-        // The first keyframe defines the world frame and never moves (as in ORB-SLAM).
-        addKf(keyframe.get(), keyframe->id() == 0);
-        for (KeyFrame* kf : keyframe->bestCovisibles(params.ba_max_keyframes - 1))
-            if (!kf->isBad())
-                addKf(kf, kf->id() == 0);
-        const size_t nLocal = kfs.size();
-        for (size_t k = 0; k < nLocal; ++k)
+        kfIndex[kf.id()] = kfs.size();
+        BaKeyFrame b{map.allKeyFrames().at(kf.id()), {}, fixed, CameraModel(kf.camera, kf.bf)};
+        poseToParams(kf.T_cam_world(), b.pose.data());
+        kfs.push_back(b);
+    }
+
+    // The points of keyframes [0, nPoseKeyFrames) and all their observations; observing
+    // keyframes not in the problem yet join it held still. Hold the map mutex.
+    void addPointsOf(const Map& map, size_t nPoseKeyFrames)
+    {
+        std::map<uint64_t, size_t> ptIndex;
+        for (size_t k = 0; k < nPoseKeyFrames; ++k)
         {
             for (const auto& mp : kfs[k].kf->points)
             {
@@ -90,7 +83,7 @@ LocalBundleAdjustmentStats localBundleAdjustment(const std::shared_ptr<KeyFrame>
             for (const auto& [kfId, o] : pts[p].mp->observations())
             {
                 if (!kfIndex.count(kfId))
-                    addKf(o.keyframe, true);
+                    addKeyFrame(map, *o.keyframe, true);
                 const size_t k = kfIndex[kfId];
                 const KeyFrame& kf = *o.keyframe;
                 if (kf.weights[o.index] <= 0.0F)
@@ -110,7 +103,7 @@ LocalBundleAdjustmentStats localBundleAdjustment(const std::shared_ptr<KeyFrame>
         bool anyFixed = false;
         for (const auto& k : kfs)
             anyFixed = anyFixed || k.fixed;
-        if (!anyFixed)
+        if (!anyFixed && !kfs.empty())
         {
             size_t oldest = 0;
             for (size_t k = 1; k < kfs.size(); ++k)
@@ -119,13 +112,23 @@ LocalBundleAdjustmentStats localBundleAdjustment(const std::shared_ptr<KeyFrame>
             kfs[oldest].fixed = true;
         }
     }
+};
+
+// Robust solve, outliers classified, plain solve, classified again; then the result is
+// written back under the map mutex.
+LocalBundleAdjustmentStats solveAndWriteBack(BaProblem& pb, Map& map, int robust_iterations,
+                                             int refine_iterations, const std::atomic<bool>& abort)
+{
+    LocalBundleAdjustmentStats stats;
+    auto& kfs = pb.kfs;
+    auto& pts = pb.pts;
+    auto& obs = pb.obs;
     for (const auto& k : kfs)
         (k.fixed ? stats.fixedKeyframes : stats.keyframes)++;
     stats.points = static_cast<int>(pts.size());
     stats.observations = static_cast<int>(obs.size());
     if (stats.keyframes == 0 || pts.empty())
         return stats;
-
     AbortCallback callback(abort);
     auto solve = [&](int iterations, bool robust)
     {
@@ -175,9 +178,9 @@ LocalBundleAdjustmentStats localBundleAdjustment(const std::shared_ptr<KeyFrame>
             o.outlier = !inFront || chi2 > (o.obs.stereo() ? kChi2Stereo : kChi2Mono);
         }
     };
-    solve(params.ba_iterations, true);
+    solve(robust_iterations, true);
     classify();
-    solve(params.ba_refine_iterations, false);
+    solve(refine_iterations, false);
     classify();
     stats.aborted = stats.aborted || abort.load();
 
@@ -205,5 +208,39 @@ LocalBundleAdjustmentStats localBundleAdjustment(const std::shared_ptr<KeyFrame>
         p.mp->updateNormalAndDepth();
     }
     return stats;
+}
+}  // namespace
+
+LocalBundleAdjustmentStats localBundleAdjustment(const std::shared_ptr<KeyFrame>& keyframe,
+                                                 Map& map, const LocalMappingParameters& params,
+                                                 const std::atomic<bool>& abort)
+{
+    BaProblem pb;
+    {
+        std::lock_guard<std::mutex> lock(map.mutex());
+        if (keyframe->isBad())
+            return {};
+        // The first keyframe defines the world frame and never moves (as in ORB-SLAM).
+        pb.addKeyFrame(map, *keyframe, keyframe->id() == 0);
+        for (KeyFrame* kf : keyframe->bestCovisibles(params.ba_max_keyframes - 1))
+            if (!kf->isBad())
+                pb.addKeyFrame(map, *kf, kf->id() == 0);
+        pb.addPointsOf(map, pb.kfs.size());
+    }
+    return solveAndWriteBack(pb, map, params.ba_iterations, params.ba_refine_iterations, abort);
+}
+
+LocalBundleAdjustmentStats globalBundleAdjustment(Map& map, int iterations,
+                                                  const std::atomic<bool>& abort)
+{
+    BaProblem pb;
+    {
+        std::lock_guard<std::mutex> lock(map.mutex());
+        for (const auto& [id, kf] : map.keyframes())
+            if (!kf->isBad())
+                pb.addKeyFrame(map, *kf, id == 0);
+        pb.addPointsOf(map, pb.kfs.size());
+    }
+    return solveAndWriteBack(pb, map, iterations, iterations, abort);
 }
 }  // namespace smap::slam

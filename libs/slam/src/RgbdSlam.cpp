@@ -14,6 +14,7 @@ RgbdSlam::RgbdSlam(const features::OrbParameters& orb, const TrackerParameters& 
     : COutputLogger("slam"),
       orbParams_(orb),
       trackingParams_(tracking),
+      mappingParams_(mapping),
       extractor_(std::make_unique<features::OrbExtractor>(orb)),
       map_(std::make_unique<Map>()),
       mapper_(std::make_unique<LocalMapper>(*map_, mapping)),
@@ -81,6 +82,18 @@ void RgbdSlam::setLoggingLevel(mrpt::system::VerbosityLevel level)
 void RgbdSlam::finish()
 {
     mapper_->waitUntilIdle();
+    if (finished_ || mappingParams_.global_ba_iterations <= 0)
+        return;
+    finished_ = true;
+    const auto t0 = std::chrono::steady_clock::now();
+    const std::atomic<bool> never{false};
+    globalBa_ = globalBundleAdjustment(*map_, mappingParams_.global_ba_iterations, never);
+    globalBaSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    MRPT_LOG_INFO_FMT(
+        "global bundle adjustment: %d keyframes (%d held), %d points, %d observations, %d "
+        "outliers removed, %.2f s",
+        globalBa_.keyframes, globalBa_.fixedKeyframes, globalBa_.points, globalBa_.observations,
+        globalBa_.outliersRemoved, globalBaSeconds_);
 }
 
 core::Trajectory RgbdSlam::trajectory() const

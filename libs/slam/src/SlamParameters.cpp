@@ -108,6 +108,7 @@ void LocalMappingParameters::loadFromConfigFile(const mrpt::config::CConfigFileB
     ba_max_keyframes = cfg.read_int(s, "ba_max_keyframes", ba_max_keyframes);
     ba_iterations = cfg.read_int(s, "ba_iterations", ba_iterations);
     ba_refine_iterations = cfg.read_int(s, "ba_refine_iterations", ba_refine_iterations);
+    global_ba_iterations = cfg.read_int(s, "global_ba_iterations", global_ba_iterations);
     covisibility_min_weight = cfg.read_int(s, "covisibility_min_weight", covisibility_min_weight);
     fuse_neighbours = cfg.read_int(s, "fuse_neighbours", fuse_neighbours);
     keyframe_redundancy = cfg.read_double(s, "keyframe_redundancy", keyframe_redundancy);
@@ -115,6 +116,9 @@ void LocalMappingParameters::loadFromConfigFile(const mrpt::config::CConfigFileB
         throw core::InputError(mrpt::format(
             "[local_mapping] ba_iterations = %d and ba_refine_iterations = %d must be >= 0",
             ba_iterations, ba_refine_iterations));
+    if (global_ba_iterations < 0)
+        throw core::InputError(mrpt::format(
+            "[local_mapping] global_ba_iterations = %d must be >= 0", global_ba_iterations));
     if (ba_max_keyframes < 2)
         throw core::InputError(
             mrpt::format("[local_mapping] ba_max_keyframes = %d must be >= 2", ba_max_keyframes));
@@ -135,6 +139,7 @@ void LocalMappingParameters::saveToConfigFile(mrpt::config::CConfigFileBase& cfg
     cfg.write(s, "ba_max_keyframes", ba_max_keyframes);
     cfg.write(s, "ba_iterations", ba_iterations);
     cfg.write(s, "ba_refine_iterations", ba_refine_iterations);
+    cfg.write(s, "global_ba_iterations", global_ba_iterations);
     cfg.write(s, "covisibility_min_weight", covisibility_min_weight);
     cfg.write(s, "fuse_neighbours", fuse_neighbours);
     cfg.write(s, "keyframe_redundancy", keyframe_redundancy);

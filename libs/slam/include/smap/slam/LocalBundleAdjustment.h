@@ -1,7 +1,8 @@
-// Local bundle adjustment around a keyframe: its covisible keyframes and every point they see
-// are optimised, keyframes that only see those points hold still (robust cost, outlier
-// observations removed between two solves). The map mutex is held to copy the problem out and
-// to write the result back, never while solving.
+// Bundle adjustment: local, around a keyframe (its covisible keyframes and every point they see
+// are optimised, keyframes that only see those points hold still), and global, over every live
+// keyframe and point at the end of a run. Both use a robust cost and remove outlier
+// observations between two solves. The map mutex is held to copy the problem out and to write
+// the result back, never while solving.
 #pragma once
 
 #include <atomic>
@@ -29,4 +30,11 @@ struct LocalBundleAdjustmentStats
 LocalBundleAdjustmentStats localBundleAdjustment(const std::shared_ptr<KeyFrame>& keyframe,
                                                  Map& map, const LocalMappingParameters& params,
                                                  const std::atomic<bool>& abort);
+
+/// Every live keyframe and point of the map, the first keyframe (the world frame) held still:
+/// `iterations` robust iterations, outlier observations removed, `iterations` more. Frames
+/// follow through their reference keyframes. With no first keyframe left (it is never culled)
+/// the oldest live keyframe is held instead.
+LocalBundleAdjustmentStats globalBundleAdjustment(Map& map, int iterations,
+                                                  const std::atomic<bool>& abort);
 }  // namespace smap::slam

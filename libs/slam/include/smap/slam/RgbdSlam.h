@@ -13,6 +13,7 @@
 #include "smap/core/Trajectory.h"
 #include "smap/features/OrbParameters.h"
 #include "smap/slam/Frame.h"
+#include "smap/slam/LocalBundleAdjustment.h"
 #include "smap/slam/LocalMapper.h"
 #include "smap/slam/SlamParameters.h"
 #include "smap/slam/Tracker.h"
@@ -46,8 +47,12 @@ public:
     /// Minimum level logged by this object, tracking and local mapping.
     void setLoggingLevel(mrpt::system::VerbosityLevel level);
 
-    /// Waits for local mapping to finish the queued keyframes (call at the end of a run).
+    /// Waits for local mapping to finish the queued keyframes, then runs the global bundle
+    /// adjustment ([local_mapping] global_ba_iterations > 0). Call once, at the end of a run.
     void finish();
+    /// What finish()'s global bundle adjustment did (all zero before finish() or when off).
+    const LocalBundleAdjustmentStats& globalBundleAdjustmentStats() const { return globalBa_; }
+    double globalBundleAdjustmentSeconds() const { return globalBaSeconds_; }
 
     /// Pose of every frame that has one, through its reference keyframe's refined pose.
     core::Trajectory trajectory() const;
@@ -66,11 +71,15 @@ public:
 private:
     features::OrbParameters orbParams_;
     TrackerParameters trackingParams_;
+    LocalMappingParameters mappingParams_;
     std::unique_ptr<features::OrbExtractor> extractor_;
     std::unique_ptr<Map> map_;
     std::unique_ptr<LocalMapper> mapper_;
     std::unique_ptr<Tracker> tracker_;
     uint64_t nextFrameId_ = 0;
+    bool finished_ = false;
+    LocalBundleAdjustmentStats globalBa_;
+    double globalBaSeconds_ = 0.0;
 };
 
 /// Optical-frame pose as an MRPT pose.

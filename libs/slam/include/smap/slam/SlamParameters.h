@@ -60,9 +60,12 @@ struct LocalMappingParameters : public mrpt::config::CLoadableOptions
     /// Run local mapping in its own thread (tracking never waits for it). false: every
     /// keyframe is processed before the next frame is tracked, results are deterministic.
     bool threaded = false;
-    int ba_max_keyframes = 14;         ///< the keyframe and its strongest covisible ones move
-    int ba_iterations = 3;             ///< robust local BA before outliers are removed
-    int ba_refine_iterations = 5;      ///< after removal
+    int ba_max_keyframes = 14;     ///< the keyframe and its strongest covisible ones move
+    int ba_iterations = 3;         ///< robust local BA before outliers are removed
+    int ba_refine_iterations = 5;  ///< after removal
+    /// At the end of a run, a bundle adjustment over every keyframe and point: this many robust
+    /// iterations, then as many after outliers are removed (0 = none).
+    int global_ba_iterations = 10;
     int covisibility_min_weight = 15;  ///< shared points that make a covisibility edge
     int fuse_neighbours = 10;          ///< covisible keyframes searched for duplicate points
     double keyframe_redundancy = 0.9;  ///< cull a keyframe whose points are this redundant
