@@ -6,7 +6,7 @@
 #include <atomic>
 #include <random>
 
-#include "smap/slam/LocalBundleAdjustment.h"
+#include "smap/slam/BundleAdjustment.h"
 #include "smap/slam/Map.h"
 
 using namespace smap;

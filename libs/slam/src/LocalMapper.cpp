@@ -112,7 +112,7 @@ void LocalMapper::process(const std::shared_ptr<KeyFrame>& kf)
         std::lock_guard<std::mutex> lock(queueMutex_);
         moreWaiting = !queue_.empty();
     }
-    LocalBundleAdjustmentStats ba;
+    BundleAdjustmentStats ba;
     double baSeconds = 0.0;
     if (!moreWaiting && !abortBa_)
     {

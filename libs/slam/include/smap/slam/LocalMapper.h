@@ -14,7 +14,7 @@
 #include <mutex>
 #include <thread>
 
-#include "smap/slam/LocalBundleAdjustment.h"
+#include "smap/slam/BundleAdjustment.h"
 #include "smap/slam/SlamParameters.h"
 
 namespace smap::slam

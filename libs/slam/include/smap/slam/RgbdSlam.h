@@ -12,8 +12,8 @@
 #include "smap/core/RgbdFrame.h"
 #include "smap/core/Trajectory.h"
 #include "smap/features/OrbParameters.h"
+#include "smap/slam/BundleAdjustment.h"
 #include "smap/slam/Frame.h"
-#include "smap/slam/LocalBundleAdjustment.h"
 #include "smap/slam/LocalMapper.h"
 #include "smap/slam/SlamParameters.h"
 #include "smap/slam/Tracker.h"
@@ -51,7 +51,7 @@ public:
     /// adjustment ([local_mapping] global_ba_iterations > 0). Call once, at the end of a run.
     void finish();
     /// What finish()'s global bundle adjustment did (all zero before finish() or when off).
-    const LocalBundleAdjustmentStats& globalBundleAdjustmentStats() const { return globalBa_; }
+    const BundleAdjustmentStats& globalBundleAdjustmentStats() const { return globalBa_; }
     double globalBundleAdjustmentSeconds() const { return globalBaSeconds_; }
 
     /// Pose of every frame that has one, through its reference keyframe's refined pose.
@@ -78,7 +78,7 @@ private:
     std::unique_ptr<Tracker> tracker_;
     uint64_t nextFrameId_ = 0;
     bool finished_ = false;
-    LocalBundleAdjustmentStats globalBa_;
+    BundleAdjustmentStats globalBa_;
     double globalBaSeconds_ = 0.0;
 };
 

@@ -15,7 +15,7 @@ namespace smap::slam
 class KeyFrame;
 class Map;
 
-struct LocalBundleAdjustmentStats
+struct BundleAdjustmentStats
 {
     int keyframes = 0;       ///< optimised
     int fixedKeyframes = 0;  ///< held constant
@@ -27,14 +27,14 @@ struct LocalBundleAdjustmentStats
 
 /// `abort` stops the solver early (tracking wants to insert a keyframe); whatever was reached
 /// is still written back.
-LocalBundleAdjustmentStats localBundleAdjustment(const std::shared_ptr<KeyFrame>& keyframe,
-                                                 Map& map, const LocalMappingParameters& params,
-                                                 const std::atomic<bool>& abort);
+BundleAdjustmentStats localBundleAdjustment(const std::shared_ptr<KeyFrame>& keyframe, Map& map,
+                                            const LocalMappingParameters& params,
+                                            const std::atomic<bool>& abort);
 
 /// Every live keyframe and point of the map, the first keyframe (the world frame) held still:
 /// `iterations` robust iterations, outlier observations removed, `iterations` more. Frames
 /// follow through their reference keyframes. With no first keyframe left (it is never culled)
 /// the oldest live keyframe is held instead.
-LocalBundleAdjustmentStats globalBundleAdjustment(Map& map, int iterations,
-                                                  const std::atomic<bool>& abort);
+BundleAdjustmentStats globalBundleAdjustment(Map& map, int iterations,
+                                             const std::atomic<bool>& abort);
 }  // namespace smap::slam

@@ -1,4 +1,4 @@
-#include "smap/slam/LocalBundleAdjustment.h"
+#include "smap/slam/BundleAdjustment.h"
 
 #include <array>
 #include <cmath>
@@ -116,10 +116,10 @@ struct BaProblem
 
 // Robust solve, outliers classified, plain solve, classified again; then the result is
 // written back under the map mutex.
-LocalBundleAdjustmentStats solveAndWriteBack(BaProblem& pb, Map& map, int robust_iterations,
-                                             int refine_iterations, const std::atomic<bool>& abort)
+BundleAdjustmentStats solveAndWriteBack(BaProblem& pb, Map& map, int robust_iterations,
+                                        int refine_iterations, const std::atomic<bool>& abort)
 {
-    LocalBundleAdjustmentStats stats;
+    BundleAdjustmentStats stats;
     auto& kfs = pb.kfs;
     auto& pts = pb.pts;
     auto& obs = pb.obs;
@@ -211,9 +211,9 @@ LocalBundleAdjustmentStats solveAndWriteBack(BaProblem& pb, Map& map, int robust
 }
 }  // namespace
 
-LocalBundleAdjustmentStats localBundleAdjustment(const std::shared_ptr<KeyFrame>& keyframe,
-                                                 Map& map, const LocalMappingParameters& params,
-                                                 const std::atomic<bool>& abort)
+BundleAdjustmentStats localBundleAdjustment(const std::shared_ptr<KeyFrame>& keyframe, Map& map,
+                                            const LocalMappingParameters& params,
+                                            const std::atomic<bool>& abort)
 {
     BaProblem pb;
     {
@@ -230,8 +230,8 @@ LocalBundleAdjustmentStats localBundleAdjustment(const std::shared_ptr<KeyFrame>
     return solveAndWriteBack(pb, map, params.ba_iterations, params.ba_refine_iterations, abort);
 }
 
-LocalBundleAdjustmentStats globalBundleAdjustment(Map& map, int iterations,
-                                                  const std::atomic<bool>& abort)
+BundleAdjustmentStats globalBundleAdjustment(Map& map, int iterations,
+                                             const std::atomic<bool>& abort)
 {
     BaProblem pb;
     {
