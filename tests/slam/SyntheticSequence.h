@@ -1,6 +1,8 @@
 // Small rendered RGB-D sequences with exact ground truth for the tracking tests.
 #pragma once
 
+#include <optional>
+#include <string>
 #include <vector>
 
 #include "smap/core/RgbdFrame.h"
@@ -15,12 +17,16 @@ struct RenderedSequence
     core::Trajectory groundTruth;
 };
 
-/// `n` frames of a preset at 640x480 (f = 525, the acceptance resolution), sensor-noisy depth.
-inline RenderedSequence renderSequence(const std::string& preset, size_t n, uint32_t seed = 1)
+/// `n` frames of a preset, sensor-noisy depth; by default at 640x480 (f = 525, the acceptance
+/// resolution), otherwise through `camera`.
+inline RenderedSequence renderSequence(const std::string& preset, size_t n, uint32_t seed = 1,
+                                       const std::optional<core::PinholeCamera>& camera = {})
 {
     sim::GeneratorOptions o;
     o.preset = preset;
     o.seed = seed;
+    if (camera)
+        o.camera = *camera;
     sim::SequenceGenerator gen(o);
     RenderedSequence s;
     for (size_t i = 0; i < n; ++i)
