@@ -36,6 +36,17 @@ double ateRmse(const core::Trajectory& gt, const core::Trajectory& est)
     return eval::computeAte(gt, est).translation.rmse;
 }
 
+/// Feeds every frame of `seq`, expects each to get a pose, finishes; the frames' trajectory.
+core::Trajectory trackAll(slam::RgbdSlam& slam, const test::RenderedSequence& seq)
+{
+    size_t withPose = 0;
+    for (const auto& f : seq.frames)
+        withPose += slam::hasPose(slam.process(f).status) ? 1 : 0;
+    slam.finish();
+    EXPECT_EQ(withPose, seq.frames.size());
+    return slam.trajectory();
+}
+
 /// One map point per keypoint of `frame` with depth, observed by `kf` (the frame's keyframe).
 std::vector<std::shared_ptr<slam::MapPoint>> addDepthPoints(slam::Map& map, slam::KeyFrame& kf,
                                                             const slam::Frame& frame)
@@ -62,15 +73,9 @@ TEST(RgbdSlam, StaticSequenceIsTrackedToBetterThanOneCentimetre)
 {
     const auto& seq = staticXyz();
     slam::RgbdSlam slam(features::OrbParameters{}, slam::TrackerParameters{}, deterministic());
-    int withPose = 0;
-    for (const auto& f : seq.frames)
-        withPose += slam::hasPose(slam.process(f).status) ? 1 : 0;
-    slam.finish();
-    EXPECT_EQ(withPose, static_cast<int>(seq.frames.size()));
-    const auto traj = slam.trajectory();
+    const auto traj = trackAll(slam, seq);
     ASSERT_EQ(traj.size(), seq.frames.size());
-    const double rmse = ateRmse(seq.groundTruth, traj);
-    EXPECT_LT(rmse, 0.01);
+    EXPECT_LT(ateRmse(seq.groundTruth, traj), 0.01);
     EXPECT_GT(slam.numKeyFrames(), 1U);
     EXPECT_GT(slam.numPoints(), 200U);
     // Keyframe trajectory is a subset of the frames' and as accurate.
@@ -87,12 +92,7 @@ TEST(RgbdSlam, HalfResolutionSequenceIsTrackedToBetterThanTwoCentimetres)
     const auto seq =
         test::renderSequence("static_xyz", 90, 1, test::centredCamera(320, 240, 262.5));
     slam::RgbdSlam slam(features::OrbParameters{}, slam::TrackerParameters{}, deterministic());
-    int withPose = 0;
-    for (const auto& f : seq.frames)
-        withPose += slam::hasPose(slam.process(f).status) ? 1 : 0;
-    slam.finish();
-    EXPECT_EQ(withPose, static_cast<int>(seq.frames.size()));
-    const auto traj = slam.trajectory();
+    const auto traj = trackAll(slam, seq);
     ASSERT_EQ(traj.size(), seq.frames.size());
     EXPECT_LT(ateRmse(seq.groundTruth, traj), 0.02);
     EXPECT_GT(slam.numPoints(), 200U);
