@@ -150,6 +150,21 @@ TEST(RawlogSource, BothLayoutsAndGzipGiveTheSameFrames)
     EXPECT_EQ(a[1].camera, test::smallCamera());
 }
 
+TEST(RawlogSource, SaturatedRawDepthIsNoMeasurement)
+{
+    test::TempDir dir;
+    cv::Mat raw = test::patternDepthRaw(64, 48, 0);
+    raw.at<uint16_t>(5, 6) = 65535;
+    raw.at<uint16_t>(7, 8) = 65534;
+    const auto o = test::makeCoincidentObservation(
+        test::smallCamera(), test::patternColour(64, 48, 0), raw, 0.001F, 1.0);
+    test::writeRawlog(dir / "obs.rawlog", {o});
+    const auto frames = readAll(dir / "obs.rawlog");
+    ASSERT_EQ(frames.size(), 1U);
+    EXPECT_EQ(frames[0].depth.at<float>(5, 6), 0.0F);
+    EXPECT_NEAR(frames[0].depth.at<float>(7, 8), 65.534, 1e-3);
+}
+
 TEST(RawlogSource, FiltersBySensorLabel)
 {
     test::TempDir dir;

@@ -46,6 +46,24 @@ TEST(TumSource, AssociatesListsAndConvertsDepth)
     EXPECT_FALSE(src.next().has_value());
 }
 
+TEST(TumSource, SaturatedRawDepthIsNoMeasurement)
+{
+    // 7-Scenes writes 65535 for holes: it must read as 0 (invalid), not as 65.5 m, while the
+    // value below it is still a (far) depth.
+    test::TempDir dir;
+    test::writeTumFolder(dir.str(), 1, 0.0, false);
+    cv::Mat raw = test::patternDepthRaw(64, 48, 0);
+    raw.at<uint16_t>(5, 6) = 65535;
+    raw.at<uint16_t>(7, 8) = 65534;
+    cv::imwrite(dir.str() + "/depth/f0.png", raw);
+    io::TumSource src(dir.str(), params(1000.0));
+    const auto f = src.next();
+    ASSERT_TRUE(f.has_value());
+    EXPECT_EQ(f->depth.at<float>(5, 6), 0.0F);
+    EXPECT_NEAR(f->depth.at<float>(7, 8), 65.534, 1e-3);
+    EXPECT_NEAR(f->depth.at<float>(10, 20), raw.at<uint16_t>(10, 20) / 1000.0, 1e-6);
+}
+
 TEST(TumSource, UsesAssociationsFileAndSubsampling)
 {
     test::TempDir dir;

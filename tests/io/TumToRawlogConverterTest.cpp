@@ -4,6 +4,7 @@
 
 #include "SyntheticRgbd.h"
 #include "TestData.h"
+#include "smap/io/RangeImageFile.h"
 #include "smap/io/RawlogSource.h"
 #include "smap/io/TumSource.h"
 #include "smap/io/TumTextFormats.h"
@@ -65,4 +66,28 @@ TEST(TumToRawlogConverter, FailureLeavesNoPartialOutput)
     size_t entries = static_cast<size_t>(
         std::distance(fs::directory_iterator(dir.str()), fs::directory_iterator()));
     EXPECT_EQ(entries, 1u);
+}
+
+TEST(TumToRawlogConverter, HolesWrittenAs65535BecomeMrptsZero)
+{
+    // MRPT's tools (RawLogViewer, rawlog-edit --generate-3d-pointclouds) take 0 as "no range";
+    // 65535 (7-Scenes' hole value) would be a point 13 m away at 5000 units per metre.
+    test::TempDir dir;
+    test::writeTumFolder(dir / "tum", 1, 0.0, false);
+    cv::Mat raw = test::patternDepthRaw(64, 48, 0);
+    raw.at<uint16_t>(5, 6) = 65535;
+    cv::imwrite(dir.str() + "/tum/depth/f0.png", raw);
+    io::FrameSourceParameters p;
+    p.tum_depth_factor = 5000.0;
+    p.camera = test::smallCamera();
+    io::TumSource folder(dir / "tum", p);
+    io::TumToRawlogConverter conv;
+    conv.convert(folder, p.tum_depth_factor, dir / "out.rawlog");
+    const cv::Mat written = io::readExternalRangeImage(dir / "out_Images/depth/f0.bin");
+    ASSERT_EQ(written.size(), raw.size());
+    EXPECT_EQ(written.at<uint16_t>(5, 6), 0);
+    EXPECT_EQ(written.at<uint16_t>(10, 20), raw.at<uint16_t>(10, 20));
+    cv::Mat expected = raw.clone();
+    expected.at<uint16_t>(5, 6) = 0;
+    EXPECT_EQ(cv::norm(written, expected, cv::NORM_INF), 0.0);
 }

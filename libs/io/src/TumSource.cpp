@@ -21,7 +21,8 @@ void rawDepthToMetres(const cv::Mat& raw16, float unitsPerRaw, cv::Mat& depthMet
         const auto* src = raw16.ptr<uint16_t>(r);
         auto* dst = depthMetres.ptr<float>(r);
         for (int c = 0; c < raw16.cols; c++)
-            dst[c] = static_cast<float>(src[c]) * unitsPerRaw;
+            dst[c] =
+                src[c] == kRawDepthInvalidHigh ? 0.0F : static_cast<float>(src[c]) * unitsPerRaw;
     }
 }
 

@@ -77,17 +77,21 @@ TumToRawlogConverter::Result TumToRawlogConverter::convert(TumSource& source, do
                         obs->hasRangeImage = true;
                         obs->range_is_depth = true;
                         obs->rangeUnits = rangeUnits;
+                        // MRPT marks a missing range by 0: holes written as 65535 become 0.
                         obs->rangeImage_setSize(raw.rows, raw.cols);
+                        uint16_t maxRaw = 0;
                         for (int r = 0; r < raw.rows; r++)
                         {
                             const auto* src = raw.ptr<uint16_t>(r);
                             for (int c = 0; c < raw.cols; c++)
-                                obs->rangeImage(r, c) = src[c];
+                            {
+                                const uint16_t v = src[c] == kRawDepthInvalidHigh ? 0 : src[c];
+                                obs->rangeImage(r, c) = v;
+                                maxRaw = std::max(maxRaw, v);
+                            }
                         }
                         // A Kinect-like device maximum (viewers scale depth by it), raised when the
                         // frame holds farther data so that nothing lies beyond maxRange.
-                        double maxRaw = 0.0;
-                        cv::minMaxLoc(raw, nullptr, &maxRaw);
                         obs->maxRange = std::max(10.0f, static_cast<float>(maxRaw) * rangeUnits);
                         const fs::path depthRel =
                             fs::path(e.depthFile).lexically_normal().replace_extension(".bin");

@@ -2,6 +2,7 @@
 // (or associations.txt when present and enabled), images decoded on demand.
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include "smap/io/FrameSource.h"
@@ -37,7 +38,13 @@ private:
     size_t cursor_ = 0;
 };
 
-/// Depth in metres from raw units: raw * float(1 / depthFactor). The same float product is used
-/// for rawlogs (raw * rangeUnits), so a TUM folder and its tum2rawlog conversion agree bit for bit.
+/// Raw depth values that mean "no measurement": 0, and the largest 16-bit value, which some
+/// recordings (Microsoft 7-Scenes, saturated sensor drivers) write for holes. It would otherwise
+/// read as 13.1 m at TUM's 5000 units per metre or 65.5 m at millimetres.
+constexpr uint16_t kRawDepthInvalidHigh = 65535;
+
+/// Depth in metres from raw units: raw * float(1 / depthFactor); 0 where the raw value is 0 or
+/// kRawDepthInvalidHigh. The same float product is used for rawlogs (raw * rangeUnits), so a TUM
+/// folder and its tum2rawlog conversion agree bit for bit.
 void rawDepthToMetres(const cv::Mat& raw16, float unitsPerRaw, cv::Mat& depthMetres);
 }  // namespace smap::io
