@@ -1,5 +1,5 @@
 // The semantic-mapper command: an RGB-D recording in; trajectory, semantic maps, snapshots,
-// an annotated rawlog and metrics out (README.md, docs/outputs.md).
+// an annotated rawlog and metrics out (README.md, docs/pipeline.md "Outputs").
 #pragma once
 
 #include <mrpt/system/COutputLogger.h>
