@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
 
 #include "SyntheticRgbd.h"
 #include "TestData.h"
@@ -90,4 +91,48 @@ TEST(TumToRawlogConverter, HolesWrittenAs65535BecomeMrptsZero)
     cv::Mat expected = raw.clone();
     expected.at<uint16_t>(5, 6) = 0;
     EXPECT_EQ(cv::norm(written, expected, cv::NORM_INF), 0.0);
+}
+
+TEST(TumToRawlogConverter, ImagesListedOutsideTheFolderAreCopiedIntoTheImagesFolder)
+{
+    // rgb.txt may name a file by an absolute path or through "../": the copy must land inside
+    // OUT_Images, never on the source file or beside it.
+    test::TempDir dir;
+    test::writeTumFolder(dir / "tum", 3, 0.0, false);
+    fs::create_directories(dir / "elsewhere");
+    fs::rename(dir / "tum/rgb/f1.png", dir / "elsewhere/f1.png");
+    fs::rename(dir / "tum/depth/f2.png", dir / "elsewhere/f2.png");
+    {
+        std::ofstream rgb(dir / "tum/rgb.txt"), depth(dir / "tum/depth.txt");
+        rgb << std::fixed << 100.0 << " rgb/f0.png\n"
+            << 100.0 + 1 / 30.0 << " " << (dir / "elsewhere/f1.png") << "\n"
+            << 100.0 + 2 / 30.0 << " rgb/f2.png\n";
+        depth << std::fixed << 100.0 << " depth/f0.png\n"
+              << 100.0 + 1 / 30.0 << " depth/f1.png\n"
+              << 100.0 + 2 / 30.0 << " ../elsewhere/f2.png\n";
+    }
+    const auto sourceBytes = fs::file_size(dir / "elsewhere/f1.png");
+    io::FrameSourceParameters p;
+    p.tum_depth_factor = 5000.0;
+    p.camera = test::smallCamera();
+    io::TumSource folder(dir / "tum", p);
+    io::TumToRawlogConverter conv;
+    EXPECT_EQ(conv.convert(folder, p.tum_depth_factor, dir / "out.rawlog").frames, 3U);
+    EXPECT_TRUE(fs::exists(dir / "out_Images/outside/rgb/1_f1.png"));
+    EXPECT_TRUE(fs::exists(dir / "out_Images/outside/depth/2_f2.bin"));
+    EXPECT_EQ(fs::file_size(dir / "elsewhere/f1.png"), sourceBytes);
+    EXPECT_FALSE(fs::exists(dir / "elsewhere/f2.bin"));
+
+    io::TumSource again(dir / "tum", p);
+    io::RawlogSource rawlog(dir / "out.rawlog", {});
+    size_t n = 0;
+    while (auto a = again.next())
+    {
+        auto b = rawlog.next();
+        ASSERT_TRUE(b.has_value());
+        EXPECT_EQ(cv::norm(a->colour, b->colour, cv::NORM_INF), 0.0);
+        EXPECT_EQ(cv::norm(a->depth, b->depth, cv::NORM_INF), 0.0);
+        n++;
+    }
+    EXPECT_EQ(n, 3U);
 }

@@ -24,6 +24,21 @@ TumToRawlogConverter::TumToRawlogConverter(std::string sensorLabel)
 {
 }
 
+namespace
+{
+/// Where a listed image goes below OUT_Images/: its path as listed (relative to the TUM folder),
+/// or, for an absolute path or one leading out of the folder ("../"), which would land outside
+/// OUT_Images or on the source file itself, outside/KIND/INDEX_NAME.
+fs::path pathInImagesDir(const std::string& listed, const char* kind, size_t index)
+{
+    const fs::path p = fs::path(listed).lexically_normal();
+    const bool leavesFolder = p.is_absolute() || p.empty() || *p.begin() == "..";
+    if (!leavesFolder)
+        return p;
+    return fs::path("outside") / kind / (std::to_string(index) + "_" + p.filename().string());
+}
+}  // namespace
+
 TumToRawlogConverter::Result TumToRawlogConverter::convert(TumSource& source, double depthFactor,
                                                            const std::string& outRawlog,
                                                            size_t maxFrames)
@@ -61,7 +76,7 @@ TumToRawlogConverter::Result TumToRawlogConverter::convert(TumSource& source, do
                     for (size_t i = 0; i < n; i++)
                     {
                         const auto& e = entries[i];
-                        const fs::path rgbRel = fs::path(e.rgbFile).lexically_normal();
+                        const fs::path rgbRel = pathInImagesDir(e.rgbFile, "rgb", i);
                         const fs::path rgbSrc = source.absolutePath(e.rgbFile);
                         if (!fs::exists(rgbSrc))
                             throw core::InputError(
@@ -94,7 +109,7 @@ TumToRawlogConverter::Result TumToRawlogConverter::convert(TumSource& source, do
                         // frame holds farther data so that nothing lies beyond maxRange.
                         obs->maxRange = std::max(10.0f, static_cast<float>(maxRaw) * rangeUnits);
                         const fs::path depthRel =
-                            fs::path(e.depthFile).lexically_normal().replace_extension(".bin");
+                            pathInImagesDir(e.depthFile, "depth", i).replace_extension(".bin");
                         fs::create_directories((tmpImagesDir / depthRel).parent_path());
                         obs->rangeImage_convertToExternalStorage(depthRel.string(),
                                                                  tmpImagesDir.string() + "/");

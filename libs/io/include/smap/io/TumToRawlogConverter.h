@@ -3,8 +3,10 @@
 // The rawlog holds one bare observation per associated (rgb, depth) pair, with images stored
 // externally in "<name>_Images/" (colour files copied byte for byte; depth as MRPT .bin range
 // images in the source's own units, rangeUnits = 1 / depth_factor), so it stays small and opens
-// in RawLogViewer. Depth and colour cameras coincide (relativePoseIntensityWRTDepth is the
-// optical-to-sensor rotation). groundtruth.txt, when present, is written as
+// in RawLogViewer. Images keep the paths the lists give them; one listed by an absolute path or
+// one outside the folder ("../") goes to outside/rgb|depth/INDEX_NAME instead. Depth and colour
+// cameras coincide (relativePoseIntensityWRTDepth is the optical-to-sensor rotation).
+// groundtruth.txt, when present, is written as
 // "<name>_groundtruth.txt" beside the rawlog.
 #pragma once
 
