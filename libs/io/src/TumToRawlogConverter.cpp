@@ -31,7 +31,7 @@ namespace
 /// OUT_Images or on the source file itself, outside/KIND/INDEX_NAME.
 fs::path pathInImagesDir(const std::string& listed, const char* kind, size_t index)
 {
-    const fs::path p = fs::path(listed).lexically_normal();
+    fs::path p = fs::path(listed).lexically_normal();
     const bool leavesFolder = p.is_absolute() || p.empty() || *p.begin() == "..";
     if (!leavesFolder)
         return p;
