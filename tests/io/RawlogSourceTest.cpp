@@ -7,6 +7,7 @@
 #include <mrpt/obs/CSensoryFrame.h>
 
 #include <filesystem>
+#include <fstream>
 #include <opencv2/calib3d.hpp>
 
 #include "SyntheticRgbd.h"
@@ -270,6 +271,19 @@ TEST(RawlogSource, TruncatedRawlogIsAnErrorAfterTheGoodEntries)
     const std::string e = smap::test::inputErrorOf([&] { src.next(); });
     EXPECT_NE(e.find("entry 3"), std::string::npos) << e;
     EXPECT_NE(e.find("t.rawlog"), std::string::npos) << e;
+    EXPECT_EQ(e.find("backtrace"), std::string::npos) << e;  // MRPT's root cause, not its dump
+}
+
+TEST(RawlogSource, TextFileIsNotARawlog)
+{
+    // A user passing a TUM list (or any other file) gets told what the file is not, in one line.
+    test::TempDir dir;
+    std::ofstream(dir / "associations.txt") << "100.0 rgb/f0.png 100.0 depth/f0.png\n";
+    const std::string e =
+        smap::test::inputErrorOf([&] { io::RawlogSource(dir / "associations.txt", {}).next(); });
+    EXPECT_NE(e.find("associations.txt' is not an MRPT rawlog"), std::string::npos) << e;
+    EXPECT_NE(e.find("TUM RGB-D folder"), std::string::npos) << e;
+    EXPECT_EQ(e.find('\n'), std::string::npos) << e;
 }
 
 TEST(RawlogSource, CameraOverrideReplacesObservationIntrinsics)

@@ -35,6 +35,18 @@ mrpt::poses::CPose3D opticalInSensorFrame()
     return mrpt::poses::CPose3D(0, 0, 0, mrpt::DEG2RAD(-90.0), 0, mrpt::DEG2RAD(-90.0));
 }
 
+/// The root cause in an MRPT exception text: its last "Message:" line (MRPT nests the original
+/// exception last, each with a call-stack dump), or the first line of any other text.
+std::string innermostMrptMessage(const std::string& what)
+{
+    const std::string key = "Message:";
+    const size_t at = what.rfind(key);
+    const size_t from = at == std::string::npos ? 0 : at + key.size();
+    std::string line = what.substr(from, what.find('\n', from) - from);
+    const size_t first = line.find_first_not_of(' ');
+    return first == std::string::npos ? what : line.substr(first);
+}
+
 bool sameIntrinsics(const core::PinholeCamera& a, const core::PinholeCamera& b)
 {
     const double tol = 1e-9;
@@ -109,15 +121,19 @@ bool RawlogSource::Impl::fill(COutputLogger& log)
         }
         catch (const std::exception& e)
         {
-            // MRPT reports a clean end of file as a plain exception mentioning EOF.
             // MRPT 2.5 reports a clean end of file as a plain exception: accept it only when
             // the stream really is at its end, so a truncated entry stays an error.
             if (stream.checkEOF() &&
                 std::string(e.what()).find("Cannot read object due to EOF") != std::string::npos)
                 return false;
+            if (entries == 0)
+                throw core::InputError(mrpt::format(
+                    "'%s' is not an MRPT rawlog: its first entry cannot be read (%s); a TUM RGB-D "
+                    "folder is given as the folder itself",
+                    path.c_str(), innermostMrptMessage(e.what()).c_str()));
             throw core::InputError(
                 mrpt::format("rawlog '%s': cannot read entry %zu (corrupt or truncated file): %s",
-                             path.c_str(), entries + 1, e.what()));
+                             path.c_str(), entries + 1, innermostMrptMessage(e.what()).c_str()));
         }
         entries++;
         if (!obj)
