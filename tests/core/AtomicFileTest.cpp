@@ -69,19 +69,72 @@ TEST(AtomicFile, DirectoryReplacedOnlyWhenTheWriterSucceeds)
     const std::string target = dir / "seq";
     fs::create_directories(target);
     std::ofstream(target + "/old.txt") << "old";
-    EXPECT_THROW(smap::core::writeDirectoryAtomically(target,
-                                                      [](const std::string& tmp)
-                                                      {
-                                                          std::ofstream(tmp + "/half.txt") << "x";
-                                                          throw std::runtime_error("disk full");
-                                                      }),
-                 std::runtime_error);
+    const auto earlierOutput = [](const std::string& d) { return fs::exists(d + "/old.txt"); };
+    try
+    {
+        smap::core::writeDirectoryAtomically(
+            target,
+            [](const std::string& tmp)
+            {
+                std::ofstream(tmp + "/half.txt") << "x";
+                throw std::runtime_error("disk full");
+            },
+            earlierOutput);
+        ADD_FAILURE() << "the writer's error was swallowed";
+    }
+    catch (const std::runtime_error& e)
+    {
+        EXPECT_STREQ(e.what(), "disk full");
+    }
     EXPECT_TRUE(fs::exists(target + "/old.txt"));
     EXPECT_EQ(countFiles(dir.str()), 1u);  // no temporary folder left
 
     smap::core::writeDirectoryAtomically(
-        target, [](const std::string& tmp) { std::ofstream(tmp + "/new.txt") << "new"; });
+        target, [](const std::string& tmp) { std::ofstream(tmp + "/new.txt") << "new"; },
+        earlierOutput);
     EXPECT_FALSE(fs::exists(target + "/old.txt"));
     EXPECT_EQ(smap::test::readTextFile(target + "/new.txt"), "new");
     EXPECT_EQ(countFiles(dir.str()), 1u);
+}
+
+TEST(AtomicFile, DirectoryNeverReplacesWhatItDidNotWrite)
+{
+    // `smap-synth --out .` once emptied the working folder: a user's file, a foreign folder,
+    // "." and ".." are refused before the writer runs, and nothing is touched.
+    smap::test::TempDir dir;
+    std::ofstream(dir / "file.txt") << "keep";
+    fs::create_directories(dir / "theirs");
+    std::ofstream(dir / "theirs/data.txt") << "keep";
+    int writes = 0;
+    const auto writer = [&](const std::string& tmp)
+    {
+        ++writes;
+        std::ofstream(tmp + "/new.txt") << "new";
+    };
+    const auto refusal = [&](const std::string& target) {
+        return smap::test::inputErrorOf([&]
+                                        { smap::core::writeDirectoryAtomically(target, writer); });
+    };
+    EXPECT_NE(refusal(dir / "file.txt").find("is not a folder"), std::string::npos);
+    EXPECT_NE(refusal(dir / "theirs").find("not an earlier output"), std::string::npos);
+    EXPECT_NE(refusal(dir / "theirs/").find("not an earlier output"), std::string::npos);
+    EXPECT_NE(refusal(dir / "theirs/.").find("not an earlier output"), std::string::npos);
+    EXPECT_NE(refusal(dir / "theirs/..").find("not an earlier output"), std::string::npos);
+    EXPECT_NE(refusal(".").find("names no folder"), std::string::npos);
+    EXPECT_NE(refusal("./").find("names no folder"), std::string::npos);
+    EXPECT_NE(refusal("..").find("names no folder"), std::string::npos);
+    EXPECT_NE(refusal("/").find("names no folder"), std::string::npos);
+    EXPECT_EQ(writes, 0);
+    EXPECT_EQ(smap::test::readTextFile(dir / "file.txt"), "keep");
+    EXPECT_EQ(smap::test::readTextFile(dir / "theirs/data.txt"), "keep");
+    EXPECT_EQ(countFiles(dir.str()), 2u);
+
+    // An empty folder is replaced; a refused one is, once the check accepts it.
+    fs::create_directories(dir / "empty");
+    smap::core::writeDirectoryAtomically(dir / "empty", writer);
+    smap::core::writeDirectoryAtomically(dir / "theirs", writer,
+                                         [](const std::string&) { return true; });
+    EXPECT_EQ(writes, 2);
+    EXPECT_TRUE(fs::exists(dir / "empty/new.txt"));
+    EXPECT_FALSE(fs::exists(dir / "theirs/data.txt"));
 }

@@ -6,6 +6,8 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include "smap/core/InputError.h"
+
 namespace fs = std::filesystem;
 
 namespace smap::core
@@ -38,13 +40,34 @@ void writeFileAtomically(const std::string& path,
 }
 
 void writeDirectoryAtomically(const std::string& dir,
-                              const std::function<void(const std::string&)>& writer)
+                              const std::function<void(const std::string&)>& writer,
+                              const ReplaceCheck& mayReplace)
 {
-    const fs::path target = fs::path(dir).lexically_normal();
+    fs::path target = fs::path(dir).lexically_normal();
+    if (target.filename().empty() && target.has_parent_path() && target != target.root_path())
+        target = target.parent_path();  // "out/" is "out"
+    const std::string name = target.filename().string();
+    if (name.empty() || name == "." || name == "..")
+        throw InputError(mrpt::format(
+            "'%s' names no folder of its own to write (give a new name such as '%s/out')",
+            dir.c_str(), dir.c_str()));
+    if (fs::exists(fs::symlink_status(target)))
+    {
+        if (!fs::is_directory(fs::symlink_status(target)))
+            throw InputError(
+                mrpt::format("'%s' exists and is not a folder: it is left alone", target.c_str()));
+        if (!fs::is_empty(target) && !(mayReplace && mayReplace(target.string())))
+            throw InputError(mrpt::format(
+                "folder '%s' exists and is not an earlier output of this tool: it is left alone "
+                "(choose another name, or remove it)",
+                target.c_str()));
+    }
     const fs::path tmp = target.parent_path() /
                          ("." + target.filename().string() + ".tmp-" + std::to_string(::getpid()));
     fs::remove_all(tmp);
-    fs::create_directories(tmp);
+    if (std::error_code ec; !fs::create_directories(tmp, ec) || ec)
+        throw InputError(mrpt::format("cannot write folder '%s': %s", target.c_str(),
+                                      ec ? ec.message().c_str() : "it could not be created"));
     try
     {
         writer(tmp.string());

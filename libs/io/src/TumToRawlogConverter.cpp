@@ -132,7 +132,9 @@ TumToRawlogConverter::Result TumToRawlogConverter::convert(TumSource& source, do
                         }
                     }
                     fo.close();
-                });
+                },
+                // An existing images folder is replaced only with the rawlog that uses it.
+                [&](const std::string&) { return fs::is_regular_file(outRawlog); });
         });
     result.rawlogPath = outRawlog;
     result.imagesDirectory = imagesDir.string();

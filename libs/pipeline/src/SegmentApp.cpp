@@ -10,6 +10,7 @@
 #include "smap/core/AtomicFile.h"
 #include "smap/core/InputError.h"
 #include "smap/core/JsonWriter.h"
+#include "smap/core/OutputDirectory.h"
 #include "smap/io/FrameSource.h"
 #include "smap/pipeline/AppConfiguration.h"
 #include "smap/pipeline/CommandLine.h"
@@ -98,7 +99,7 @@ int SegmentApp::run(const std::vector<std::string>& args, std::ostream& out)
     source->setMinLoggingLevel(getMinLoggingLevel());
     const fs::path outDir = cl.positionals()[1];
     const bool overlay = !cl.has("no-overlay");
-    fs::create_directories(outDir);
+    core::prepareOutputDirectory(outDir.string(), "OUT_DIR");
     if (overlay)
         fs::create_directories(outDir / "overlay");
     MRPT_LOG_INFO_FMT("%s -> %s with %s", source->description().c_str(), outDir.string().c_str(),

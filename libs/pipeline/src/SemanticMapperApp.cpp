@@ -17,6 +17,7 @@
 #include "smap/core/Elapsed.h"
 #include "smap/core/InputError.h"
 #include "smap/core/JsonWriter.h"
+#include "smap/core/OutputDirectory.h"
 #include "smap/dynamic/EvidenceReport.h"
 #include "smap/eval/AbsoluteTrajectoryError.h"
 #include "smap/eval/EvalReport.h"
@@ -255,6 +256,7 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
 
     auto source = io::openFrameSource(input, sourceParams);
     source->setMinLoggingLevel(getMinLoggingLevel());
+    core::prepareOutputDirectory(outDir, "--out");
     const std::string groundTruth = gtPath.empty() ? source->groundTruthPath() : gtPath;
     if (gtLabels.empty())
         gtLabels = KeyFrameScorer::findFor(input);
@@ -268,7 +270,6 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
         cv::setNumThreads(params.pipeline.opencv_threads);
     const double setupMs = core::millisecondsSince(tStart);
 
-    fs::create_directories(outDir);
     const fs::path dir(outDir);
     MRPT_LOG_INFO_STREAM("reading " << source->description() << " -> " << outDir
                                     << "; keyframes segmented by "

@@ -17,11 +17,19 @@ std::string temporarySiblingPath(const std::string& path);
 void writeFileAtomically(const std::string& path,
                          const std::function<void(const std::string&)>& writer);
 
+/// Says whether an existing, non-empty folder may be replaced: typically, whether it is an
+/// earlier output of the same tool.
+using ReplaceCheck = std::function<bool(const std::string& existingDir)>;
+
 /// The same for a folder: `writer(tmpDir)` fills a fresh temporary sibling folder, which then
-/// replaces `dir` (an existing folder of that name is removed). On failure the temporary folder
-/// is removed, `dir` is untouched, and the error propagates.
+/// replaces `dir`. On failure the temporary folder is removed, `dir` is untouched, and the
+/// error propagates. Before anything is written, InputError refuses a `dir` that names no
+/// folder of its own (".", "..", "/"), one that exists and is not a folder, and an existing
+/// non-empty folder that `mayReplace` does not accept (none given: only empty folders are
+/// replaced): a user's --out must never delete what the tool did not write.
 void writeDirectoryAtomically(const std::string& dir,
-                              const std::function<void(const std::string&)>& writer);
+                              const std::function<void(const std::string&)>& writer,
+                              const ReplaceCheck& mayReplace = {});
 
 /// A text output stream that becomes `path` on commit(); dropped without commit, it leaves
 /// nothing behind.
