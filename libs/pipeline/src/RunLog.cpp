@@ -53,6 +53,44 @@ void RunLog::add(const FrameStats& stats, double timestamp, const core::PinholeC
     rows_.push_back({stats, result});
 }
 
+std::string RunLog::trackingDiagnosis(double minDepth, double maxDepth) const
+{
+    const size_t n = rows_.size();
+    if (n == 0 || 2 * withPose_ >= n)
+        return {};
+    std::vector<double> medians, intensities;
+    for (const auto& row : rows_)
+    {
+        if (row.stats.validDepthFraction > 0.0)
+            medians.push_back(row.stats.depthMedian);
+        intensities.push_back(row.stats.meanIntensity);
+    }
+    const auto median = [](std::vector<double> v)
+    {
+        std::nth_element(v.begin(), v.begin() + static_cast<long>(v.size() / 2), v.end());
+        return v[v.size() / 2];
+    };
+    const double validDepth = sumValidDepth_ / static_cast<double>(n);
+    std::string why;
+    if (validDepth < 0.05)
+        why = mrpt::format(
+            "the depth images hold almost no valid depth (%.1f %% of the pixels on average): "
+            "check the depth files",
+            100.0 * validDepth);
+    else if (const double z = median(medians); z < minDepth || z > maxDepth)
+        why = mrpt::format(
+            "the median depth is %.2f m, outside the tracker's %.2f - %.2f m: check the depth "
+            "scale ([tum] depth_factor: TUM 5000, 7-Scenes 1000 units per metre)",
+            z, minDepth, maxDepth);
+    else if (median(intensities) < 5.0)
+        why = "the colour images are (nearly) black";
+    else
+        why =
+            "too little texture or too fast a motion; frames.csv has keypoints and inliers per "
+            "frame";
+    return mrpt::format("only %zu of %zu frames have a pose: %s", withPose_, n, why.c_str());
+}
+
 std::string RunLog::framesCsv() const
 {
     std::string csv = frameStatsCsvHeader() +

@@ -464,6 +464,10 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
     writeText(dir / "metrics.json", metrics.dump());
     files.emplace_back("metrics.json");
 
+    if (const std::string diagnosis =
+            log.trackingDiagnosis(params.tracking.min_depth, params.tracking.max_depth);
+        !diagnosis.empty())
+        MRPT_LOG_WARN(diagnosis);
     result_ = {n, ws.keyframes, interrupted, outDir, input};
     MRPT_LOG_INFO_FMT(
         "%zu frames in %.2f s (%.1f frames/s): %zu with a pose, %zu lost, %zu keyframes mapped, "

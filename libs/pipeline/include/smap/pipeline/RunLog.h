@@ -33,6 +33,11 @@ public:
     core::JsonValue trackingJson() const;
     /// Sets feature_extraction, dynamic_filter, tracking and keyframe_queue_wait in `timings`.
     void addTimings(core::JsonValue& timings) const;
+    /// Empty when at least half of the frames have a pose; otherwise how many do and the most
+    /// likely reason read from the frames' statistics: (almost) no valid depth, a median depth
+    /// outside the tracker's [minDepth, maxDepth] (a wrong depth factor), black images, or
+    /// else too little texture or too fast a motion.
+    std::string trackingDiagnosis(double minDepth, double maxDepth) const;
 
 private:
     struct Row
