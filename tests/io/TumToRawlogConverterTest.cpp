@@ -14,6 +14,31 @@
 using namespace smap;
 namespace fs = std::filesystem;
 
+namespace
+{
+/// The TUM folder and the rawlog converted from it give `count` identical frames.
+void expectSameFrames(const std::string& folder, const io::FrameSourceParameters& p,
+                      const std::string& rawlogPath, size_t count)
+{
+    io::TumSource again(folder, p);
+    io::RawlogSource rawlog(rawlogPath, {});
+    size_t n = 0;
+    while (auto a = again.next())
+    {
+        auto b = rawlog.next();
+        ASSERT_TRUE(b.has_value());
+        EXPECT_EQ(cv::norm(a->colour, b->colour, cv::NORM_INF), 0.0);
+        EXPECT_EQ(cv::norm(a->depth, b->depth, cv::NORM_INF), 0.0);  // bit-identical metres
+        EXPECT_EQ(a->camera, b->camera);
+        EXPECT_NEAR(a->timestamp, b->timestamp, 1e-6);  // MRPT stores 100 ns ticks
+        EXPECT_EQ(a->name, b->name);
+        n++;
+    }
+    EXPECT_EQ(n, count);
+    EXPECT_FALSE(rawlog.next().has_value());
+}
+}  // namespace
+
 TEST(TumToRawlogConverter, RawlogReadsBackAsTheSameFrames)
 {
     test::TempDir dir;
@@ -34,22 +59,7 @@ TEST(TumToRawlogConverter, RawlogReadsBackAsTheSameFrames)
         std::distance(fs::directory_iterator(dir.str()), fs::directory_iterator()));
     EXPECT_EQ(entries, 4u);  // tum/, out.rawlog, out_Images/, out_groundtruth.txt
 
-    io::TumSource again(dir / "tum", p);
-    io::RawlogSource rawlog(dir / "out.rawlog", {});
-    size_t n = 0;
-    while (auto a = again.next())
-    {
-        auto b = rawlog.next();
-        ASSERT_TRUE(b.has_value());
-        EXPECT_EQ(cv::norm(a->colour, b->colour, cv::NORM_INF), 0.0);
-        EXPECT_EQ(cv::norm(a->depth, b->depth, cv::NORM_INF), 0.0);  // bit-identical metres
-        EXPECT_EQ(a->camera, b->camera);
-        EXPECT_NEAR(a->timestamp, b->timestamp, 1e-6);  // MRPT stores 100 ns ticks
-        EXPECT_EQ(a->name, b->name);
-        n++;
-    }
-    EXPECT_EQ(n, 5u);
-    EXPECT_FALSE(rawlog.next().has_value());
+    expectSameFrames(dir / "tum", p, dir / "out.rawlog", 5);
 }
 
 TEST(TumToRawlogConverter, FailureLeavesNoPartialOutput)
@@ -118,21 +128,10 @@ TEST(TumToRawlogConverter, ImagesListedOutsideTheFolderAreCopiedIntoTheImagesFol
     io::TumSource folder(dir / "tum", p);
     io::TumToRawlogConverter conv;
     EXPECT_EQ(conv.convert(folder, p.tum_depth_factor, dir / "out.rawlog").frames, 3U);
-    EXPECT_TRUE(fs::exists(dir / "out_Images/outside/rgb/1_f1.png"));
-    EXPECT_TRUE(fs::exists(dir / "out_Images/outside/depth/2_f2.bin"));
+    EXPECT_TRUE(fs::exists(dir / "out_Images/outside/rgb/1/f1.png"));
+    EXPECT_TRUE(fs::exists(dir / "out_Images/outside/depth/2/f2.bin"));
     EXPECT_EQ(fs::file_size(dir / "elsewhere/f1.png"), sourceBytes);
     EXPECT_FALSE(fs::exists(dir / "elsewhere/f2.bin"));
 
-    io::TumSource again(dir / "tum", p);
-    io::RawlogSource rawlog(dir / "out.rawlog", {});
-    size_t n = 0;
-    while (auto a = again.next())
-    {
-        auto b = rawlog.next();
-        ASSERT_TRUE(b.has_value());
-        EXPECT_EQ(cv::norm(a->colour, b->colour, cv::NORM_INF), 0.0);
-        EXPECT_EQ(cv::norm(a->depth, b->depth, cv::NORM_INF), 0.0);
-        n++;
-    }
-    EXPECT_EQ(n, 3U);
+    expectSameFrames(dir / "tum", p, dir / "out.rawlog", 3);
 }

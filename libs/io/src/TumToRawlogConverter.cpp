@@ -28,14 +28,15 @@ namespace
 {
 /// Where a listed image goes below OUT_Images/: its path as listed (relative to the TUM folder),
 /// or, for an absolute path or one leading out of the folder ("../"), which would land outside
-/// OUT_Images or on the source file itself, outside/KIND/INDEX_NAME.
+/// OUT_Images or on the source file itself, outside/KIND/INDEX/NAME (the name, hence the
+/// frame's name read back, stays the file's own).
 fs::path pathInImagesDir(const std::string& listed, const char* kind, size_t index)
 {
     fs::path p = fs::path(listed).lexically_normal();
     const bool leavesFolder = p.is_absolute() || p.empty() || *p.begin() == "..";
     if (!leavesFolder)
         return p;
-    return fs::path("outside") / kind / (std::to_string(index) + "_" + p.filename().string());
+    return fs::path("outside") / kind / std::to_string(index) / p.filename();
 }
 }  // namespace
 

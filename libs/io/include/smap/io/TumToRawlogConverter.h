@@ -4,7 +4,7 @@
 // externally in "<name>_Images/" (colour files copied byte for byte; depth as MRPT .bin range
 // images in the source's own units, rangeUnits = 1 / depth_factor), so it stays small and opens
 // in RawLogViewer. Images keep the paths the lists give them; one listed by an absolute path or
-// one outside the folder ("../") goes to outside/rgb|depth/INDEX_NAME instead. Depth and colour
+// one outside the folder ("../") goes to outside/rgb|depth/INDEX/NAME instead. Depth and colour
 // cameras coincide (relativePoseIntensityWRTDepth is the optical-to-sensor rotation).
 // groundtruth.txt, when present, is written as
 // "<name>_groundtruth.txt" beside the rawlog.
