@@ -15,7 +15,7 @@
 // truth. With --snapshots DIR, writes the map pictures. An evaluation program, not a test.
 //
 // Usage: eval_maps [--preset walking_xyz] [--frames 150] [--every 5] [--noise-free]
-//                  [--espnet MODEL.onnx] [--snapshots DIR]
+//                  [--espnet MODEL.onnx] [--snapshots DIR] [--grow-pixels N]
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -68,6 +68,7 @@ int run(int argc, char** argv)
 {
     pipeline::CommandLine cl;
     cl.option("preset").option("frames").option("every").option("snapshots").option("espnet");
+    cl.option("grow-pixels");
     cl.flag("noise-free");
     cl.parse(std::vector<std::string>(argv + 1, argv + argc));
     sim::GeneratorOptions o;
@@ -77,7 +78,10 @@ int run(int argc, char** argv)
     const auto every = static_cast<size_t>(cl.integer("every", 5));
     sim::SequenceGenerator gen(o);
     const core::LabelSet labels = core::LabelSet::pascalVoc();
-    const mapping::DynamicRegionFinder finder(mapping::DynamicRegionParameters(), labels);
+    mapping::DynamicRegionParameters regionParams;
+    regionParams.grow_pixels =
+        static_cast<int>(cl.integer("grow-pixels", regionParams.grow_pixels));
+    const mapping::DynamicRegionFinder finder(regionParams, labels);
 
     // Ground truth per 5 cm voxel: votes of the static pixels' labels; the true surface as
     // 1 cm cells of the static pixels' noise-free points.

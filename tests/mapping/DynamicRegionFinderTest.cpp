@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "TestData.h"
 #include "smap/mapping/DynamicRegionFinder.h"
@@ -29,6 +30,14 @@ struct Scene
     }
 };
 
+/// The paper's Algorithm 1 (our growth of M off): steps 1 and 2 exactly.
+DynamicRegionParameters paper()
+{
+    DynamicRegionParameters p;
+    p.grow_pixels = 0;
+    return p;
+}
+
 std::vector<DynamicPoint> pointsIn(const cv::Rect& r, int count, double depth)
 {
     std::vector<DynamicPoint> pts;
@@ -42,7 +51,7 @@ std::vector<DynamicPoint> pointsIn(const cv::Rect& r, int count, double depth)
 TEST(DynamicRegionFinder, ObjectWithMoreThanNumPointsGoesWhole)
 {
     const Scene s;
-    const DynamicRegionFinder finder(DynamicRegionParameters(), core::LabelSet::pascalVoc());
+    const DynamicRegionFinder finder(paper(), core::LabelSet::pascalVoc());
     // 21 points (> Num = 20) on the person: all its 800 pixels, nothing else.
     auto r = finder.find(s.labels, s.depth, pointsIn({10, 10, 20, 40}, 21, 2.0));
     ASSERT_EQ(r.objects.size(), 2u);  // person and chair; background is no object
@@ -66,7 +75,7 @@ TEST(DynamicRegionFinder, ObjectWithMoreThanNumPointsGoesWhole)
 TEST(DynamicRegionFinder, DepthDecidesNearObjectEdges)
 {
     const Scene s;
-    const DynamicRegionFinder finder(DynamicRegionParameters(), core::LabelSet::pascalVoc());
+    const DynamicRegionFinder finder(paper(), core::LabelSet::pascalVoc());
     // A point on the person's right edge (u = 29): the background (3 m) beside it stays, the
     // person pixels (2 m) within 5 px go.
     const auto r = finder.find(s.labels, s.depth, {{29.0, 30.0, 2.0}});
@@ -91,7 +100,7 @@ TEST(DynamicRegionFinder, NonObjectClassesAndParameters)
 {
     Scene s;
     // With background counted as an object, 21 points on it remove the whole background.
-    DynamicRegionParameters p;
+    DynamicRegionParameters p = paper();
     p.non_object_classes = "";
     const DynamicRegionFinder all(p, core::LabelSet::pascalVoc());
     const auto r = all.find(s.labels, s.depth, pointsIn({35, 5, 20, 70}, 21, 3.0));
@@ -100,6 +109,50 @@ TEST(DynamicRegionFinder, NonObjectClassesAndParameters)
     EXPECT_NE(test::inputErrorOf([&] { DynamicRegionFinder f(p, core::LabelSet::pascalVoc()); })
                   .find("nosuchclass"),
               std::string::npos);
+}
+
+TEST(DynamicRegionFinder, GrowthFollowsDepthAndStopsAtItsSteps)
+{
+    const Scene s;
+    DynamicRegionParameters p = paper();
+    const std::vector<DynamicPoint> centre = {{20.0, 30.0, 2.0}};  // 69-pixel disc on the person
+    const cv::Mat disc = DynamicRegionFinder(p, core::LabelSet::pascalVoc())
+                             .find(s.labels, s.depth, centre)
+                             .dynamicMask;
+    ASSERT_EQ(cv::countNonZero(disc), 69);
+
+    // Three 4-neighbour steps: the disc dilated three times by a cross, inside the person
+    // (2 m; the background at 3 m is beyond depth_tolerance), computed independently.
+    p.grow_pixels = 3;
+    auto r = DynamicRegionFinder(p, core::LabelSet::pascalVoc()).find(s.labels, s.depth, centre);
+    cv::Mat expected;
+    cv::dilate(disc, expected, cv::getStructuringElement(cv::MORPH_CROSS, {3, 3}), {-1, -1}, 3);
+    cv::Mat person(disc.size(), CV_8UC1, cv::Scalar(0));
+    person(cv::Rect(10, 10, 20, 40)).setTo(255);
+    expected &= person;
+    EXPECT_EQ(cv::countNonZero(r.dynamicMask != expected), 0);
+    EXPECT_EQ(r.pixelsNearPoints, 69);
+    EXPECT_EQ(r.pixelsGrown, cv::countNonZero(expected) - 69);
+
+    // Enough steps: the whole person and nothing else (background 1 m behind, chair apart).
+    p.grow_pixels = 100;
+    r = DynamicRegionFinder(p, core::LabelSet::pascalVoc()).find(s.labels, s.depth, centre);
+    EXPECT_EQ(cv::countNonZero(r.dynamicMask), 800);
+    EXPECT_EQ(cv::countNonZero(r.dynamicMask(cv::Rect(10, 10, 20, 40))), 800);
+
+    // A slope (5 mm per pixel, a floor seen at a glance) is followed; a 0.15 m step is not,
+    // and a pixel without depth neither joins nor passes the growth on.
+    cv::Mat slope(20, 60, CV_32FC1);
+    for (int u = 0; u < 60; ++u)
+        slope.col(u).setTo(2.0f + 0.005f * static_cast<float>(u) + (u >= 40 ? 0.15f : 0.0f));
+    slope(cv::Rect(0, 15, 60, 1)).setTo(0.0f);
+    const cv::Mat background(20, 60, CV_8UC1, cv::Scalar(0));
+    p.grow_pixels = 60;
+    r = DynamicRegionFinder(p, core::LabelSet::pascalVoc())
+            .find(background, slope, {{5.0, 5.0, 2.025}});
+    EXPECT_EQ(cv::countNonZero(r.dynamicMask(cv::Rect(0, 0, 40, 15))), 40 * 15);
+    EXPECT_EQ(cv::countNonZero(r.dynamicMask(cv::Rect(40, 0, 20, 20))), 0);
+    EXPECT_EQ(cv::countNonZero(r.dynamicMask(cv::Rect(0, 15, 60, 5))), 0);
 }
 
 TEST(DynamicRegionFinder, RemovesTheWalkersOfARenderedFrame)

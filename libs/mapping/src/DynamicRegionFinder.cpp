@@ -6,6 +6,7 @@
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
+#include <vector>
 
 #include "smap/core/InputError.h"
 
@@ -20,6 +21,7 @@ void DynamicRegionParameters::loadFromConfigFile(const mrpt::config::CConfigFile
     pixel_radius = cfg.read_double(s, "pixel_radius", pixel_radius);
     non_object_classes = cfg.read_string(s, "non_object_classes", non_object_classes);
     connectivity = cfg.read_int(s, "connectivity", connectivity);
+    grow_pixels = cfg.read_int(s, "grow_pixels", grow_pixels);
     if (num_points < 0)
         throw core::InputError(
             mrpt::format("[association] num_points = %d must be >= 0", num_points));
@@ -27,6 +29,9 @@ void DynamicRegionParameters::loadFromConfigFile(const mrpt::config::CConfigFile
         throw core::InputError(mrpt::format(
             "[association] depth_tolerance = %g must be > 0 and pixel_radius = %g in (0, 200]",
             depth_tolerance, pixel_radius));
+    if (grow_pixels < 0 || grow_pixels > 100)
+        throw core::InputError(
+            mrpt::format("[association] grow_pixels = %d must be in [0, 100]", grow_pixels));
     if (connectivity != 4 && connectivity != 8)
         throw core::InputError(
             mrpt::format("[association] connectivity = %d must be 4 or 8", connectivity));
@@ -41,6 +46,7 @@ void DynamicRegionParameters::saveToConfigFile(mrpt::config::CConfigFileBase& cf
     cfg.write(s, "pixel_radius", pixel_radius);
     cfg.write(s, "non_object_classes", non_object_classes);
     cfg.write(s, "connectivity", connectivity);
+    cfg.write(s, "grow_pixels", grow_pixels);
 }
 
 DynamicRegionFinder::DynamicRegionFinder(const DynamicRegionParameters& params,
@@ -163,6 +169,51 @@ DynamicRegions DynamicRegionFinder::find(const cv::Mat& labels, const cv::Mat& d
                 r.pixelsNearPoints++;
             }
         }
+    }
+
+    // Beyond the paper: M grows into depth-continuous neighbours, one pixel ring per step. Only
+    // the pixels that joined in the previous step can reach new ones (a pixel an older one
+    // could have taken was already refused), so the cost is M's size plus what grows.
+    std::vector<int> frontier, joined;
+    if (params_.grow_pixels > 0)
+    {
+        const auto* mask = r.dynamicMask.ptr<uint8_t>();
+        for (int i = 0; i < static_cast<int>(r.dynamicMask.total()); ++i)
+            if (mask[i])
+                frontier.push_back(i);
+    }
+    auto* mask = r.dynamicMask.ptr<uint8_t>();
+    // Indexing by i = v * cols + u needs one block (a view into a larger image is copied).
+    const cv::Mat depthBlock = depth.isContinuous() ? depth : depth.clone();
+    const auto* z = depthBlock.ptr<float>();
+    const int cols = labels.cols, rows = labels.rows;
+    for (int step = 0; step < params_.grow_pixels && !frontier.empty(); ++step)
+    {
+        joined.clear();
+        for (const int i : frontier)
+        {
+            if (!(z[i] > 0.0f))
+                continue;
+            const int u = i % cols, v = i / cols;
+            const auto tryJoin = [&](int j)
+            {
+                if (!mask[j] && z[j] > 0.0f && std::abs(z[j] - z[i]) < params_.depth_tolerance)
+                {
+                    mask[j] = 255;
+                    joined.push_back(j);
+                }
+            };
+            if (u > 0)
+                tryJoin(i - 1);
+            if (u + 1 < cols)
+                tryJoin(i + 1);
+            if (v > 0)
+                tryJoin(i - cols);
+            if (v + 1 < rows)
+                tryJoin(i + cols);
+        }
+        r.pixelsGrown += static_cast<int>(joined.size());
+        frontier.swap(joined);
     }
     return r;
 }

@@ -18,7 +18,7 @@
 
 namespace smap::mapping
 {
-/// [association] section. Defaults: the paper's values.
+/// [association] section. Defaults: the paper's values (and our growth of M, grow_pixels).
 struct DynamicRegionParameters : public mrpt::config::CLoadableOptions
 {
     int num_points = 20;           ///< Num: more than this many dynamic points -> object dynamic
@@ -30,6 +30,11 @@ struct DynamicRegionParameters : public mrpt::config::CLoadableOptions
     std::string non_object_classes = "background";
     /// 8- or 4-connectivity of object regions.
     int connectivity = 8;
+    /// Beyond the paper: M grows this many pixels (4-neighbour steps) into pixels whose depth
+    /// is within depth_tolerance of the M pixel they touch, so a person's outline that the
+    /// segmentation gave to the background goes with the person, while the depth jump to
+    /// what lies behind stops the growth. 0 = the paper's M (config/modes/paper.ini).
+    int grow_pixels = 16;
 
     void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
                             const std::string& section) override;
@@ -63,6 +68,7 @@ struct DynamicRegions
     std::vector<ObjectRegion> objects;
     int pixelsFromObjects = 0;  ///< step 1
     int pixelsNearPoints = 0;   ///< step 2 (not already in step 1)
+    int pixelsGrown = 0;        ///< grow_pixels (not already in steps 1-2)
 };
 
 class DynamicRegionFinder
