@@ -111,3 +111,38 @@ TEST(SemanticMapBuilder, ReanchorMovesTheMapOnlyBeyondTheTolerance)
     EXPECT_EQ(turned.moved, 2u);
     EXPECT_NEAR(turned.maxRotationDeg, 5.0, 1e-6);
 }
+
+TEST(SemanticMapBuilder, PruningDropsPointsWhereLaterKeyframesSawThrough)
+{
+    // Keyframe 0 sees a box 1 m in front of the wall that the dynamic mask missed (a person who
+    // then left); keyframes 1-3 see the bare wall through where it stood. The octomap carves
+    // the box's voxels free; with pruning the points map drops the box's points as well.
+    maps::BackProjector::Images withBox = wall();
+    withBox.dynamicMask.setTo(0);
+    withBox.depth(cv::Rect(20, 15, 20, 20)).setTo(1.0f);
+    maps::BackProjector::Images bare = wall();
+    bare.dynamicMask.setTo(0);
+    const auto nearPoints = [](const maps::CSemanticPointsMap& m)
+    {
+        size_t n = 0;
+        for (const auto& p : m.points())
+            n += p.position.z() < 1.5f ? 1 : 0;
+        return n;
+    };
+    for (const bool prune : {false, true})
+    {
+        mapping::MapBuilderParameters p;
+        p.prune_free_points = prune;
+        mapping::SemanticMapBuilder b(p);
+        b.add(0, 0.0, withBox, camera(), mrpt::poses::CPose3D());
+        for (uint64_t k = 1; k <= 3; ++k)
+            b.add(k, static_cast<double>(k), bare, camera(), mrpt::poses::CPose3D());
+        const size_t boxBefore = nearPoints(b.pointsMap());
+        const size_t wallBefore = b.pointsMap().size() - boxBefore;
+        ASSERT_GT(boxBefore, 50U);
+        const size_t pruned = b.pruneFreePoints();
+        EXPECT_EQ(nearPoints(b.pointsMap()), prune ? 0U : boxBefore) << "prune " << prune;
+        EXPECT_EQ(pruned, prune ? boxBefore : 0U);
+        EXPECT_EQ(b.pointsMap().size() - nearPoints(b.pointsMap()), wallBefore);
+    }
+}

@@ -16,6 +16,7 @@ void MapBuilderParameters::loadFromConfigFile(const mrpt::config::CConfigFileBas
     contribution_voxel = cfg.read_double(s, "contribution_voxel", contribution_voxel);
     reanchor_translation = cfg.read_double(s, "reanchor_translation", reanchor_translation);
     reanchor_rotation_deg = cfg.read_double(s, "reanchor_rotation_deg", reanchor_rotation_deg);
+    prune_free_points = cfg.read_bool(s, "prune_free_points", prune_free_points);
     if (!(contribution_voxel >= 0.0 && contribution_voxel <= 1.0))
         throw core::InputError(
             mrpt::format("[map] contribution_voxel = %g must be in [0, 1] m (0: no thinning)",
@@ -37,6 +38,7 @@ void MapBuilderParameters::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
     cfg.write(s, "contribution_voxel", contribution_voxel);
     cfg.write(s, "reanchor_translation", reanchor_translation);
     cfg.write(s, "reanchor_rotation_deg", reanchor_rotation_deg);
+    cfg.write(s, "prune_free_points", prune_free_points);
     pointsMap.saveToConfigFile(cfg, "points_map");
     octoMap.saveToConfigFile(cfg, "octomap");
 }

@@ -117,6 +117,18 @@ SemanticMapBuilder::ReanchorResult SemanticMapBuilder::reanchor(
     return r;
 }
 
+size_t SemanticMapBuilder::pruneFreePoints()
+{
+    if (!params_.prune_free_points || !params_.points_map || !params_.octomap)
+        return 0;
+    return pointsMap_.removeIf(
+        [&](const Eigen::Vector3f& p)
+        {
+            maps::CSemanticOctoMap::Voxel v;
+            return octoMap_.voxelAt(p, v) && v.occupancy < 0.5f;
+        });
+}
+
 size_t SemanticMapBuilder::contributionBytes() const
 {
     size_t n = 0;

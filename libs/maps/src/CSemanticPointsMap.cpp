@@ -156,6 +156,22 @@ void CSemanticPointsMap::insertPoints(const std::vector<SemanticPoint>& points)
         voxels_[keyOf(p.position)].add(p);
 }
 
+size_t CSemanticPointsMap::removeIf(const std::function<bool(const Eigen::Vector3f&)>& drop)
+{
+    size_t removed = 0;
+    for (auto it = voxels_.begin(); it != voxels_.end();)
+    {
+        if (drop(it->second.mean().position))
+        {
+            it = voxels_.erase(it);
+            ++removed;
+        }
+        else
+            ++it;
+    }
+    return removed;
+}
+
 std::vector<SemanticPoint> CSemanticPointsMap::points() const
 {
     std::vector<std::pair<uint64_t, const Voxel*>> order;

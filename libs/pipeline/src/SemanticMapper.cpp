@@ -97,6 +97,7 @@ mapping::SemanticMapBuilder::ReanchorResult SemanticMapper::finish()
                         return std::nullopt;
                     return it->second;
                 });
+            result.pruned = b.pruneFreePoints();
         });
     return result;
 }

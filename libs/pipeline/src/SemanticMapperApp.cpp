@@ -425,7 +425,8 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
         .set("reanchored_keyframes", static_cast<uint64_t>(reanchor.moved))
         .set("rebuilt", reanchor.rebuilt)
         .set("max_keyframe_correction_m", reanchor.maxTranslation)
-        .set("max_keyframe_correction_deg", reanchor.maxRotationDeg);
+        .set("max_keyframe_correction_deg", reanchor.maxRotationDeg)
+        .set("pruned_free_points", static_cast<uint64_t>(reanchor.pruned));
     metrics.set("map", mapj);
     auto timings = core::JsonValue::object();
     timings.set("setup_s", setupMs / 1000.0)

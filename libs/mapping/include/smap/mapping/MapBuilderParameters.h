@@ -22,6 +22,11 @@ struct MapBuilderParameters : public mrpt::config::CLoadableOptions
     /// from the stored contributions at the final poses.
     double reanchor_translation = 0.01;
     double reanchor_rotation_deg = 1.0;
+    /// At the end of the run, with both maps filled: points-map points whose octomap voxel was
+    /// carved free (occupancy below 0.5: later keyframes saw through it, e.g. where a person
+    /// stood) are removed, as the octomap itself forgets them. Off by default: it also thins
+    /// static surfaces seen at a glance (docs/mapping.md).
+    bool prune_free_points = false;
 
     /// [points_map] and [octomap]: the maps' own options (voxel size, resolution, sensor model,
     /// and the depth range / stride of back-projection, which the builder applies too).

@@ -39,11 +39,16 @@ public:
         double maxTranslation = 0.0;  ///< m, over all keyframes
         double maxRotationDeg = 0.0;
         bool rebuilt = false;
+        size_t pruned = 0;  ///< points-map points removed by pruneFreePoints() afterwards
     };
     /// `finalPose` gives each contribution's refined pose (nullopt: keep the insertion pose).
     ReanchorResult reanchor(
         const std::function<std::optional<mrpt::poses::CPose3D>(const KeyFrameContribution&)>&
             finalPose);
+
+    /// With both maps and prune_free_points: removes the points-map points whose octomap voxel
+    /// is known and free (occupancy < 0.5). Returns how many went.
+    size_t pruneFreePoints();
 
     const maps::CSemanticPointsMap& pointsMap() const { return pointsMap_; }
     const maps::CSemanticOctoMap& octoMap() const { return octoMap_; }

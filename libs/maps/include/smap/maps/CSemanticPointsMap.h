@@ -8,6 +8,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -44,6 +45,9 @@ public:
     /// Adds world points: each goes to its voxel, which keeps the mean position and colour and
     /// the class whose summed confidence is highest.
     void insertPoints(const std::vector<SemanticPoint>& points);
+
+    /// Removes every voxel whose mean position `drop` accepts; returns how many went.
+    size_t removeIf(const std::function<bool(const Eigen::Vector3f& position)>& drop);
 
     /// Number of occupied voxels.
     size_t size() const { return voxels_.size(); }
