@@ -12,6 +12,56 @@
 
 namespace smap::mapping
 {
+namespace
+{
+/// Grows `mask` (CV_8UC1, 255 = in) by up to `steps` 4-neighbour rings into pixels with depth
+/// within `tolerance` of the mask pixel they touch; returns how many joined. Only pixels that
+/// joined in the previous step can reach new ones (a pixel an older one could have taken was
+/// already refused), so the cost is the mask's size plus what grows.
+int growAlongDepth(cv::Mat& mask, const cv::Mat& depth, int steps, float tolerance)
+{
+    // Indexing by i = v * cols + u needs one block (a view into a larger image is copied).
+    const cv::Mat depthBlock = depth.isContinuous() ? depth : depth.clone();
+    const auto* z = depthBlock.ptr<float>();
+    auto* m = mask.ptr<uint8_t>();
+    const int cols = mask.cols, rows = mask.rows;
+    std::vector<int> frontier, joined;
+    for (int i = 0; i < cols * rows; ++i)
+        if (m[i])
+            frontier.push_back(i);
+    int grown = 0;
+    for (int step = 0; step < steps && !frontier.empty(); ++step)
+    {
+        joined.clear();
+        for (const int i : frontier)
+        {
+            if (!(z[i] > 0.0f))
+                continue;
+            const auto tryJoin = [&](int j)
+            {
+                if (!m[j] && z[j] > 0.0f && std::abs(z[j] - z[i]) < tolerance)
+                {
+                    m[j] = 255;
+                    joined.push_back(j);
+                }
+            };
+            const int u = i % cols, v = i / cols;
+            if (u > 0)
+                tryJoin(i - 1);
+            if (u + 1 < cols)
+                tryJoin(i + 1);
+            if (v > 0)
+                tryJoin(i - cols);
+            if (v + 1 < rows)
+                tryJoin(i + cols);
+        }
+        grown += static_cast<int>(joined.size());
+        frontier.swap(joined);
+    }
+    return grown;
+}
+}  // namespace
+
 void DynamicRegionParameters::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
                                                  const std::string&)
 {
@@ -171,50 +221,10 @@ DynamicRegions DynamicRegionFinder::find(const cv::Mat& labels, const cv::Mat& d
         }
     }
 
-    // Beyond the paper: M grows into depth-continuous neighbours, one pixel ring per step. Only
-    // the pixels that joined in the previous step can reach new ones (a pixel an older one
-    // could have taken was already refused), so the cost is M's size plus what grows.
-    std::vector<int> frontier, joined;
+    // Beyond the paper: M grows into depth-continuous neighbours.
     if (params_.grow_pixels > 0)
-    {
-        const auto* mask = r.dynamicMask.ptr<uint8_t>();
-        for (int i = 0; i < static_cast<int>(r.dynamicMask.total()); ++i)
-            if (mask[i])
-                frontier.push_back(i);
-    }
-    auto* mask = r.dynamicMask.ptr<uint8_t>();
-    // Indexing by i = v * cols + u needs one block (a view into a larger image is copied).
-    const cv::Mat depthBlock = depth.isContinuous() ? depth : depth.clone();
-    const auto* z = depthBlock.ptr<float>();
-    const int cols = labels.cols, rows = labels.rows;
-    for (int step = 0; step < params_.grow_pixels && !frontier.empty(); ++step)
-    {
-        joined.clear();
-        for (const int i : frontier)
-        {
-            if (!(z[i] > 0.0f))
-                continue;
-            const int u = i % cols, v = i / cols;
-            const auto tryJoin = [&](int j)
-            {
-                if (!mask[j] && z[j] > 0.0f && std::abs(z[j] - z[i]) < params_.depth_tolerance)
-                {
-                    mask[j] = 255;
-                    joined.push_back(j);
-                }
-            };
-            if (u > 0)
-                tryJoin(i - 1);
-            if (u + 1 < cols)
-                tryJoin(i + 1);
-            if (v > 0)
-                tryJoin(i - cols);
-            if (v + 1 < rows)
-                tryJoin(i + cols);
-        }
-        r.pixelsGrown += static_cast<int>(joined.size());
-        frontier.swap(joined);
-    }
+        r.pixelsGrown = growAlongDepth(r.dynamicMask, depth, params_.grow_pixels,
+                                       static_cast<float>(params_.depth_tolerance));
     return r;
 }
 }  // namespace smap::mapping
