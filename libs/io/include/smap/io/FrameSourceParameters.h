@@ -5,8 +5,9 @@
 //           use_associations (use associations.txt when present)
 // [rawlog]  sensor_label (empty: any CObservation3DRangeScan)
 // [camera]  optional intrinsics of the colour image (width height fx fy cx cy k1 k2 p1 p2 k3):
-//           required for TUM folders unless the ROS default is acceptable; overrides the
-//           observation's intrinsics for rawlogs.
+//           for TUM folders without it, the published calibration when the folder's name says
+//           freiburg1/2/3, else the ROS default; overrides the observation's intrinsics for
+//           rawlogs.
 #pragma once
 
 #include <mrpt/config/CLoadableOptions.h>
@@ -38,6 +39,11 @@ struct FrameSourceParameters : public mrpt::config::CLoadableOptions
 };
 
 /// The ROS/TUM "default" Kinect intrinsics (640x480, f = 525, c = (319.5, 239.5)), used for a TUM
-/// folder when no [camera] is configured.
+/// folder when no [camera] is configured and its name names no TUM camera.
 core::PinholeCamera defaultKinectCamera();
+
+/// The published colour calibration of the TUM RGB-D camera a folder's name names
+/// ("rgbd_dataset_freiburg3_walking_xyz" -> freiburg3; the same values as config/tum_fr<N>.ini),
+/// or nothing when the folder's own name contains no "freiburg1", "freiburg2" or "freiburg3".
+std::optional<core::PinholeCamera> tumCameraFromFolderName(const std::string& folder);
 }  // namespace smap::io
