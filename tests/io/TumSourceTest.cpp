@@ -1,5 +1,4 @@
 #include <gtest/gtest.h>
-#include <mrpt/config/CConfigFile.h>
 
 #include <filesystem>
 
@@ -7,7 +6,6 @@
 #include "TestData.h"
 #include "smap/core/InputError.h"
 #include "smap/io/FrameSource.h"
-#include "smap/io/FrameSourceParameters.h"
 #include "smap/io/TumSource.h"
 
 using namespace smap;
@@ -126,51 +124,5 @@ TEST(TumSource, NoOverlappingTimestampsIsAnError)
     catch (const core::InputError& e)
     {
         EXPECT_NE(std::string(e.what()).find("no rgb/depth pairs"), std::string::npos);
-    }
-}
-
-TEST(TumSource, FolderNamedAfterATumCameraGetsItsPublishedCalibration)
-{
-    // No [camera]: rgbd_dataset_freiburg3_* gets freiburg3's intrinsics, not the ROS default.
-    test::TempDir root;
-    const auto dir = root / "rgbd_dataset_freiburg3_walking_xyz";
-    test::writeTumFolder(dir, 2, 0.0, false, 640, 480);
-    io::FrameSourceParameters p;
-    io::TumSource fr3(dir + "/", p);
-    EXPECT_DOUBLE_EQ(fr3.camera().fx, 535.4);
-    EXPECT_DOUBLE_EQ(fr3.camera().cy, 247.6);
-    EXPECT_FALSE(fr3.camera().hasDistortion());
-    const auto f = fr3.next();
-    ASSERT_TRUE(f.has_value());
-    EXPECT_EQ(f->camera, fr3.camera());
-
-    // A configured [camera] still wins.
-    p.camera = test::smallCamera(640, 480);
-    EXPECT_EQ(io::TumSource(dir, p).camera(), *p.camera);
-
-    // Any other name keeps the ROS default; so does one naming two cameras, or a parent folder.
-    p.camera.reset();
-    const std::string other = root / "freiburg2_recordings/kitchen";
-    test::writeTumFolder(other, 1, 0.0, false, 640, 480);
-    EXPECT_EQ(io::TumSource(other, p).camera(), io::defaultKinectCamera());
-    EXPECT_FALSE(io::tumCameraFromFolderName("fr1_vs_freiburg1_freiburg2").has_value());
-    EXPECT_FALSE(io::tumCameraFromFolderName("").has_value());
-    ASSERT_TRUE(io::tumCameraFromFolderName("RGBD_Dataset_Freiburg1_XYZ").has_value());
-}
-
-TEST(TumSource, PublishedCalibrationsMatchTheConfigPresets)
-{
-    // config/tum_fr<N>.ini and the built-in table must give the same camera.
-    for (int n = 1; n <= 3; n++)
-    {
-        const std::string ini =
-            std::string(SMAP_SOURCE_DIR) + "/config/tum_fr" + std::to_string(n) + ".ini";
-        mrpt::config::CConfigFile cfg(ini);
-        const auto fromIni = core::loadCamera(cfg, "camera");
-        const auto fromName =
-            io::tumCameraFromFolderName("rgbd_dataset_freiburg" + std::to_string(n) + "_xyz");
-        ASSERT_TRUE(fromName.has_value()) << n;
-        EXPECT_EQ(*fromName, fromIni)
-            << ini << ": " << fromIni.toString() << " vs " << fromName->toString();
     }
 }

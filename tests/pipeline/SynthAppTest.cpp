@@ -7,8 +7,11 @@
 
 #include "TestData.h"
 #include "smap/core/InputError.h"
+#include "smap/core/TrackedConfig.h"
+#include "smap/io/FrameSourceParameters.h"
 #include "smap/io/RawlogSource.h"
 #include "smap/io/TumTextFormats.h"
+#include "smap/pipeline/InputPreset.h"
 #include "smap/pipeline/SynthApp.h"
 
 using namespace smap;
@@ -27,7 +30,7 @@ TEST(SynthApp, WritesTheTumLayoutWithGroundTruthAndARawlog)
     for (const char* f : {"rgb.txt", "depth.txt", "associations.txt", "groundtruth.txt",
                           "meta.json", "contact_sheet.png", "rgb/000005.png", "depth/000005.png",
                           "labels/000005.png", "instances/000005.png", "dynamic/000005.png",
-                          "sequence.rawlog", "sequence_groundtruth.txt"})
+                          "sequence.rawlog", "sequence_groundtruth.txt", "camera.ini"})
         EXPECT_TRUE(fs::exists(dir / ("seq/" + std::string(f)))) << f;
     EXPECT_EQ(io::readTumTrajectory(dir / "seq/groundtruth.txt").size(), 6u);
     EXPECT_EQ(std::distance(fs::directory_iterator(dir / "seq/objects"), fs::directory_iterator()),
@@ -35,6 +38,21 @@ TEST(SynthApp, WritesTheTumLayoutWithGroundTruthAndARawlog)
     const std::string meta = test::readTextFile(dir / "seq/meta.json");
     EXPECT_NE(meta.find("\"preset\": \"walking_static\""), std::string::npos) << meta;
     EXPECT_NE(meta.find("\"depth_factor\": 5000"), std::string::npos) << meta;
+    // camera.ini says how to read the folder: the apps take it when no [camera] is given.
+    const auto preset = pipeline::presetForInput(dir / "seq");
+    ASSERT_TRUE(preset.has_value());
+    EXPECT_EQ(preset->source, dir / "seq/camera.ini");
+    {
+        core::TrackedConfig cfg;
+        cfg.loadText(preset->text, preset->source);
+        io::FrameSourceParameters p;
+        cfg.load(p);
+        cfg.ensureAllKeysUsed();
+        ASSERT_TRUE(p.camera.has_value());
+        EXPECT_EQ(p.camera->fx, 525.0);
+        EXPECT_EQ(p.camera->width, 640);
+        EXPECT_EQ(p.tum_depth_factor, 5000.0);
+    }
 
     // The rawlog holds the same images as the folder.
     io::RawlogSource rawlog(dir / "seq/sequence.rawlog", {});

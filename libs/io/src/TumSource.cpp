@@ -91,14 +91,6 @@ TumSource::TumSource(const std::string& folder, const FrameSourceParameters& par
     {
         camera_ = *params.camera;
     }
-    else if (const auto published = tumCameraFromFolderName(folder))
-    {
-        camera_ = *published;
-        MRPT_LOG_INFO_STREAM("No [camera] configured; the name of TUM folder '"
-                             << folder << "' names a TUM RGB-D camera: using its published "
-                             << "calibration " << camera_.toString()
-                             << " (a [camera] section overrides it)");
-    }
     else
     {
         camera_ = defaultKinectCamera();

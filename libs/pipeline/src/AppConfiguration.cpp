@@ -1,27 +1,59 @@
 #include "smap/pipeline/AppConfiguration.h"
 
+#include <memory>
+#include <optional>
+
 #include "smap/core/TrackedConfig.h"
+#include "smap/pipeline/InputPreset.h"
 
 namespace smap::pipeline
 {
-void loadAppConfiguration(const CommandLine& cl,
-                          const std::vector<mrpt::config::CLoadableOptions*>& params)
+namespace
 {
-    core::TrackedConfig cfg;
-    // Several --config files apply in order, later keys over earlier ones (a camera preset
-    // plus a segmentation configuration, say).
-    const auto files = cl.values("config");
-    for (size_t i = 0; i < files.size(); i++)
+/// Every --config file in order (later keys over earlier ones), then every --set, on top of
+/// `base` (a preset's text) when there is one.
+std::unique_ptr<core::TrackedConfig> assemble(const CommandLine& cl,
+                                              const std::optional<InputPreset>& base)
+{
+    auto cfg = std::make_unique<core::TrackedConfig>();
+    bool loaded = false;
+    if (base)
     {
-        if (i == 0)
-            cfg.loadFile(files[i]);
+        cfg->loadText(base->text, base->source);
+        loaded = true;
+    }
+    for (const auto& file : cl.values("config"))
+    {
+        if (loaded)
+            cfg->mergeFile(file);
         else
-            cfg.mergeFile(files[i]);
+            cfg->loadFile(file);
+        loaded = true;
     }
     for (const auto& s : cl.values("set"))
-        cfg.applyOverride(s);
+        cfg->applyOverride(s);
+    return cfg;
+}
+}  // namespace
+
+std::string loadAppConfiguration(const CommandLine& cl,
+                                 const std::vector<mrpt::config::CLoadableOptions*>& params,
+                                 const std::string& input)
+{
+    std::optional<InputPreset> preset;
+    if (!input.empty() && !assemble(cl, std::nullopt)->sectionExists("camera"))
+        preset = presetForInput(input);
+    const auto cfg = assemble(cl, preset);
+    std::string note;
+    if (preset)
+    {
+        note = "no [camera] configured and '" + input + "' is a folder: " + preset->reason +
+               ", so " + preset->source +
+               " applies under the given configuration (a [camera] of your own replaces it)";
+    }
     for (auto* p : params)
-        cfg.load(*p);
-    cfg.ensureAllKeysUsed();
+        cfg->load(*p);
+    cfg->ensureAllKeysUsed();
+    return note;
 }
 }  // namespace smap::pipeline

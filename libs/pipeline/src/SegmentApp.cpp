@@ -84,7 +84,10 @@ int SegmentApp::run(const std::vector<std::string>& args, std::ostream& out)
 
     io::FrameSourceParameters sourceParams;
     segmentation::SegmentationParameters segParams;
-    loadAppConfiguration(cl, {&sourceParams, &segParams});
+    const std::string presetNote =
+        loadAppConfiguration(cl, {&sourceParams, &segParams}, cl.positionals()[0]);
+    if (!presetNote.empty())
+        MRPT_LOG_INFO(presetNote);
     sourceParams.stride *= static_cast<size_t>(every);
     if (maxFrames > 0)
         sourceParams.max_frames = static_cast<size_t>(maxFrames);

@@ -155,7 +155,8 @@ std::string SemanticMapperApp::usage()
            defaultInput() +
            "\n"
            "  --config F   INI configuration; several apply in order (camera preset, mode, ...;\n"
-           "               see config/ and docs/configuration.md)\n"
+           "               see config/ and docs/configuration.md). Without a [camera], a TUM\n"
+           "               folder's camera.ini or its name (freiburg1/2/3, 7scenes) picks one\n"
            "  --out DIR    output folder (default: smap-out)\n"
            "  --gt F       ground-truth trajectory (TUM format) for ATE/RPE in metrics.json;\n"
            "               default: the one the input ships (groundtruth.txt, "
@@ -225,7 +226,9 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
     {
         std::vector<mrpt::config::CLoadableOptions*> parts = params.parts();
         parts.insert(parts.begin(), &sourceParams);
-        loadAppConfiguration(cl, parts);
+        const std::string presetNote = loadAppConfiguration(cl, parts, input);
+        if (!presetNote.empty())
+            MRPT_LOG_INFO(presetNote);
     }
     auto& seg = params.segmentation;
     if (seg.backend == "onnx" && seg.onnx.model.empty())

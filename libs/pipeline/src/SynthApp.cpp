@@ -67,7 +67,9 @@ core::PinholeCamera compositeOnto(const CommandLine& cl, size_t frames, uint32_t
     if (count < 1 || count > 8)
         throw core::InputError("--people-count must be 1 .. 8");
     io::FrameSourceParameters params;
-    loadAppConfiguration(cl, {&params});
+    const std::string presetNote = loadAppConfiguration(cl, {&params}, folder);
+    if (!presetNote.empty())
+        log.logStr(mrpt::system::LVL_INFO, presetNote);
 
     io::TumSource source(folder, params);
     source.setMinLoggingLevel(log.getMinLoggingLevel());
@@ -156,7 +158,7 @@ core::PinholeCamera compositeOnto(const CommandLine& cl, size_t frames, uint32_t
              "rest is the real sensor's");
     SyntheticSequenceWriter writer;
     writer.setMinLoggingLevel(log.getMinLoggingLevel());
-    writer.write(produce, frames, meta, outDir);
+    writer.write(produce, frames, meta, source.camera(), outDir);
     return source.camera();
 }
 }  // namespace

@@ -1,5 +1,6 @@
 #include "smap/pipeline/SyntheticSequenceWriter.h"
 
+#include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/core/format.h>
 #include <mrpt/system/CTicTac.h>
 
@@ -15,6 +16,7 @@
 #include "smap/core/JsonWriter.h"
 #include "smap/core/LabelSet.h"
 #include "smap/io/TumTextFormats.h"
+#include "smap/pipeline/InputPreset.h"
 
 namespace fs = std::filesystem;
 
@@ -78,11 +80,13 @@ core::JsonValue SyntheticSequenceWriter::metaFor(const sim::SequenceGenerator& g
 void SyntheticSequenceWriter::write(sim::SequenceGenerator& gen, size_t frames,
                                     const std::string& folder)
 {
-    write([&](size_t i) { return gen.frame(i); }, frames, metaFor(gen, frames), folder);
+    write([&](size_t i) { return gen.frame(i); }, frames, metaFor(gen, frames),
+          gen.options().camera, folder);
 }
 
 void SyntheticSequenceWriter::write(const FrameProducer& produce, size_t frames,
-                                    const core::JsonValue& meta, const std::string& folder)
+                                    const core::JsonValue& meta, const core::PinholeCamera& camera,
+                                    const std::string& folder)
 {
     const fs::path out(folder);
     const fs::path parent = out.parent_path().empty() ? fs::path(".") : out.parent_path();
@@ -154,6 +158,19 @@ void SyntheticSequenceWriter::write(const FrameProducer& produce, size_t frames,
                 metaOut.set("object_trajectories", paths);
                 core::AtomicTextFile f((tmp / "meta.json").string());
                 f.stream() << metaOut.dump();
+                f.commit();
+            }
+            {
+                mrpt::config::CConfigFileMemory cfg;
+                core::saveCamera(camera, cfg, "camera");
+                cfg.write("tum", "depth_factor", kDepthFactor);
+                std::string text;
+                cfg.getContent(text);
+                core::AtomicTextFile f((tmp / kFolderCameraFile).string());
+                f.stream() << "# Written by smap-synth: how to read this folder. semantic-mapper, "
+                              "smap-segment and\n# tum2rawlog load it when no [camera] is "
+                              "configured.\n"
+                           << text;
                 f.commit();
             }
         },

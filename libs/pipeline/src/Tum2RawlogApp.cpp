@@ -40,7 +40,9 @@ int Tum2RawlogApp::run(const std::vector<std::string>& args, std::ostream& out)
         throw core::InputError("--max-frames must be >= 0");
 
     io::FrameSourceParameters params;
-    loadAppConfiguration(cl, {&params});
+    const std::string presetNote = loadAppConfiguration(cl, {&params}, cl.positionals()[0]);
+    if (!presetNote.empty())
+        MRPT_LOG_INFO(presetNote);
 
     io::TumSource source(cl.positionals()[0], params);
     source.setMinLoggingLevel(getMinLoggingLevel());

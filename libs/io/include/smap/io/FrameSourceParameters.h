@@ -5,9 +5,9 @@
 //           use_associations (use associations.txt when present)
 // [rawlog]  sensor_label (empty: any CObservation3DRangeScan)
 // [camera]  optional intrinsics of the colour image (width height fx fy cx cy k1 k2 p1 p2 k3):
-//           for TUM folders without it, the published calibration when the folder's name says
-//           freiburg1/2/3, else the ROS default; overrides the observation's intrinsics for
-//           rawlogs.
+//           for TUM folders the apps fall back on the folder's camera.ini or name preset
+//           (pipeline/InputPreset.h), TumSource itself on the ROS default; overrides the
+//           observation's intrinsics for rawlogs.
 #pragma once
 
 #include <mrpt/config/CLoadableOptions.h>
@@ -39,11 +39,6 @@ struct FrameSourceParameters : public mrpt::config::CLoadableOptions
 };
 
 /// The ROS/TUM "default" Kinect intrinsics (640x480, f = 525, c = (319.5, 239.5)), used for a TUM
-/// folder when no [camera] is configured and its name names no TUM camera.
+/// folder when no [camera] is configured.
 core::PinholeCamera defaultKinectCamera();
-
-/// The published colour calibration of the TUM RGB-D camera a folder's name names
-/// ("rgbd_dataset_freiburg3_walking_xyz" -> freiburg3; the same values as config/tum_fr<N>.ini),
-/// or nothing when the folder's own name contains no "freiburg1", "freiburg2" or "freiburg3".
-std::optional<core::PinholeCamera> tumCameraFromFolderName(const std::string& folder);
 }  // namespace smap::io

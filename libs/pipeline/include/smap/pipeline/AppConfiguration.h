@@ -5,6 +5,7 @@
 
 #include <mrpt/config/CLoadableOptions.h>
 
+#include <string>
 #include <vector>
 
 #include "smap/pipeline/CommandLine.h"
@@ -13,6 +14,12 @@ namespace smap::pipeline
 {
 /// Throws core::InputError naming the file and key for unreadable files, bad values and keys
 /// that none of `params` reads.
-void loadAppConfiguration(const CommandLine& cl,
-                          const std::vector<mrpt::config::CLoadableOptions*>& params);
+///
+/// `input` is the recording the app will read: when the configuration has no [camera] and
+/// `input` is a folder whose name names a dataset (presetForInput), that dataset's preset is
+/// loaded first, under the files and overrides. Returns a line saying so for the app's log, or
+/// an empty string when no preset was applied.
+std::string loadAppConfiguration(const CommandLine& cl,
+                                 const std::vector<mrpt::config::CLoadableOptions*>& params,
+                                 const std::string& input = {});
 }  // namespace smap::pipeline

@@ -24,10 +24,12 @@ public:
     /// complete (written under a temporary name, then renamed; an existing folder is replaced).
     void write(sim::SequenceGenerator& generator, size_t frames, const std::string& folder);
 
-    /// Frame i of any source (rendered or composited) and its meta.json content.
+    /// Frame i of any source (rendered or composited), its meta.json content and the camera the
+    /// frames are in (written as the folder's camera.ini, with the depth factor, so that the apps
+    /// read the folder without a --config; see InputPreset).
     using FrameProducer = std::function<sim::SyntheticFrame(size_t)>;
     void write(const FrameProducer& produce, size_t frames, const core::JsonValue& meta,
-               const std::string& folder);
+               const core::PinholeCamera& camera, const std::string& folder);
     static core::JsonValue metaFor(const sim::SequenceGenerator& generator, size_t frames);
 
     /// Colour as JPEG of this quality (1 - 100) instead of PNG; 0 = PNG (default).

@@ -1,0 +1,30 @@
+// The configuration a recording folder implies when the user gives no camera: the folder's own
+// camera.ini (smap-synth writes one), else the preset its name names. TUM RGB-D folders are named
+// "rgbd_dataset_freiburg<N>_<sequence>" and ours of 7-Scenes "7scenes-<scene>"; read without
+// their preset they get the wrong intrinsics (and 7-Scenes a depth scale five times off).
+// loadAppConfiguration applies it first, under the user's files and overrides, when the user's
+// configuration has no [camera] of its own.
+#pragma once
+
+#include <optional>
+#include <string>
+
+namespace smap::pipeline
+{
+/// A recording folder's own preset: the [camera] (and [tum] depth_factor) to read it with.
+constexpr const char* kFolderCameraFile = "camera.ini";
+
+struct InputPreset
+{
+    std::string source;  ///< where the text came from: "config/tum_fr3.ini", "DIR/camera.ini"
+    std::string reason;  ///< why it applies: "its name says TUM RGB-D freiburg3"
+    std::string text;    ///< INI text
+};
+
+/// The preset for `input` when it is an existing folder that holds kFolderCameraFile (read
+/// now; InputError when unreadable), or whose own name (not a parent's) contains, ignoring case,
+/// one of "freiburg1", "freiburg2", "freiburg3" (config/tum_fr<N>.ini, built in) or "7scenes",
+/// "7-scenes", "7_scenes" (config/7scenes.ini); nothing otherwise, or when the name says two
+/// datasets.
+std::optional<InputPreset> presetForInput(const std::string& input);
+}  // namespace smap::pipeline

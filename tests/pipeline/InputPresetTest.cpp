@@ -1,0 +1,93 @@
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "TestData.h"
+#include "smap/core/TrackedConfig.h"
+#include "smap/io/FrameSourceParameters.h"
+#include "smap/pipeline/InputPreset.h"
+
+using namespace smap;
+namespace fs = std::filesystem;
+
+namespace
+{
+/// The frame-source parameters `folder` is read with when no configuration is given.
+io::FrameSourceParameters parametersFor(const std::string& folder)
+{
+    io::FrameSourceParameters p;
+    if (const auto preset = pipeline::presetForInput(folder))
+    {
+        core::TrackedConfig cfg;
+        cfg.loadText(preset->text, preset->source);
+        cfg.load(p);
+        cfg.ensureAllKeysUsed();
+    }
+    return p;
+}
+}  // namespace
+
+TEST(InputPreset, BuiltInPresetsAreTheConfigFilesAsBuilt)
+{
+    test::TempDir dir;
+    const std::pair<const char*, const char*> cases[] = {
+        {"rgbd_dataset_freiburg1_xyz", "tum_fr1.ini"},
+        {"rgbd_dataset_freiburg2_pioneer_360", "tum_fr2.ini"},
+        {"rgbd_dataset_freiburg3_walking_xyz_validation", "tum_fr3.ini"},
+        {"7scenes-chess", "7scenes.ini"}};
+    for (const auto& [name, file] : cases)
+    {
+        fs::create_directories(dir / name);
+        const auto preset = pipeline::presetForInput(dir / name);
+        ASSERT_TRUE(preset.has_value()) << name;
+        EXPECT_EQ(preset->source, std::string("config/") + file);
+        EXPECT_EQ(preset->text, test::readTextFile(test::sourceDir() + "/config/" + file))
+            << file << " changed since the build: re-run cmake";
+    }
+    const auto fr3 = parametersFor(dir / "rgbd_dataset_freiburg3_walking_xyz_validation");
+    ASSERT_TRUE(fr3.camera.has_value());
+    EXPECT_EQ(fr3.camera->fx, 535.4);
+    EXPECT_EQ(fr3.tum_depth_factor, 5000.0);
+    const auto kitchen = parametersFor(dir / "7scenes-chess");
+    ASSERT_TRUE(kitchen.camera.has_value());
+    EXPECT_EQ(kitchen.camera->fx, 585.0);
+    EXPECT_EQ(kitchen.tum_depth_factor, 1000.0);
+}
+
+TEST(InputPreset, OnlyTheFolderItselfAndOnlyOneDatasetCount)
+{
+    test::TempDir dir;
+    for (const char* name :
+         {"RGBD_Dataset_Freiburg2_XYZ", "7_Scenes_office", "my-7-scenes", "freiburg1_vs_freiburg3",
+          "rgbd_dataset_freiburg1_desk/kitchen", "plain"})
+        fs::create_directories(dir / name);
+    EXPECT_EQ(pipeline::presetForInput(dir / "RGBD_Dataset_Freiburg2_XYZ")->source,
+              "config/tum_fr2.ini");
+    EXPECT_EQ(pipeline::presetForInput(dir / "7_Scenes_office/")->source, "config/7scenes.ini");
+    EXPECT_EQ(pipeline::presetForInput(dir / "my-7-scenes")->source, "config/7scenes.ini");
+    EXPECT_FALSE(pipeline::presetForInput(dir / "freiburg1_vs_freiburg3").has_value());
+    EXPECT_FALSE(pipeline::presetForInput(dir / "rgbd_dataset_freiburg1_desk/kitchen").has_value());
+    EXPECT_FALSE(pipeline::presetForInput(dir / "plain").has_value());
+    EXPECT_FALSE(pipeline::presetForInput(dir / "rgbd_dataset_freiburg1_missing").has_value());
+    EXPECT_FALSE(pipeline::presetForInput("").has_value());
+    std::ofstream(dir / "rgbd_dataset_freiburg1_file.rawlog") << "x";
+    EXPECT_FALSE(pipeline::presetForInput(dir / "rgbd_dataset_freiburg1_file.rawlog").has_value());
+}
+
+TEST(InputPreset, TheFoldersOwnCameraIniWinsOverItsName)
+{
+    test::TempDir dir;
+    const std::string folder = dir / "rgbd_dataset_freiburg3_composited";
+    fs::create_directories(folder);
+    std::ofstream(folder + "/camera.ini")
+        << "[camera]\nwidth = 320\nheight = 240\nfx = 262.5\nfy = 262.5\ncx = 159.5\ncy = "
+           "119.5\n[tum]\ndepth_factor = 5000\n";
+    const auto preset = pipeline::presetForInput(folder);
+    ASSERT_TRUE(preset.has_value());
+    EXPECT_EQ(preset->source, folder + "/camera.ini");
+    const auto p = parametersFor(folder);
+    ASSERT_TRUE(p.camera.has_value());
+    EXPECT_EQ(p.camera->width, 320);
+    EXPECT_EQ(p.camera->fx, 262.5);
+}
