@@ -181,6 +181,24 @@ TEST(RawlogSource, FiltersBySensorLabel)
     EXPECT_NE(e.find("other than 'C'"), std::string::npos) << e;
 }
 
+TEST(RawlogSource, WithoutALabelOnlyTheFirstRgbdSensorIsRead)
+{
+    // Two cameras interleaved: reading both would make one camera jump between two places.
+    test::TempDir dir;
+    test::writeRawlog(dir / "two.rawlog",
+                      {sampleObservation(0, "FRONT"), sampleObservation(1, "REAR"),
+                       sampleObservation(2, "FRONT"), sampleObservation(3, "REAR")});
+    const auto frames = readAll(dir / "two.rawlog");
+    ASSERT_EQ(frames.size(), 2u);
+    EXPECT_NEAR(frames[0].timestamp, 50.0, 1e-6);
+    EXPECT_NEAR(frames[1].timestamp, 52.0, 1e-6);
+    io::FrameSourceParameters p;
+    p.rawlog_sensor_label = "REAR";
+    const auto rear = readAll(dir / "two.rawlog", p);
+    ASSERT_EQ(rear.size(), 2u);
+    EXPECT_NEAR(rear[0].timestamp, 51.0, 1e-6);
+}
+
 TEST(RawlogSource, RangeNotDepthIsConvertedAlongEachRay)
 {
     // A plane at z = 1.5 m stored as Euclidean ranges (range_is_depth = false).

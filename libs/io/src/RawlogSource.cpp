@@ -80,6 +80,10 @@ struct RawlogSource::Impl
     size_t frames = 0;
     size_t rgbdWithoutImages = 0;
     size_t rgbdOtherLabel = 0;
+    /// With no [rawlog] sensor_label: the label of the first usable RGB-D observation, the only
+    /// one read (two cameras interleaved would be one camera jumping between two places).
+    std::optional<std::string> firstLabel;
+    size_t rgbdOtherSensor = 0;
     bool ended = false;
     bool warnedDepthSize = false;
     bool warnedColourSize = false;
@@ -179,6 +183,24 @@ bool RawlogSource::Impl::fill(COutputLogger& log)
                         path.c_str(), entries, scan->sensorLabel.c_str());
                 }
                 continue;
+            }
+            if (params.rawlog_sensor_label.empty())
+            {
+                if (!firstLabel)
+                    firstLabel = scan->sensorLabel;
+                else if (scan->sensorLabel != *firstLabel)
+                {
+                    if (++rgbdOtherSensor == 1)
+                    {
+                        log.logFmt(mrpt::system::LVL_WARN,
+                                   "rawlog '%s' entry %zu: RGB-D observations from another sensor "
+                                   "('%s'); reading only '%s', the first one seen (choose with "
+                                   "[rawlog] sensor_label)",
+                                   path.c_str(), entries, scan->sensorLabel.c_str(),
+                                   firstLabel->c_str());
+                    }
+                    continue;
+                }
             }
             pending.push_back(scan);
         }

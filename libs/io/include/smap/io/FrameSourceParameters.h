@@ -3,7 +3,7 @@
 // [input]   max_frames (0 = all), stride (every Nth frame)
 // [tum]     depth_factor (raw units per metre: TUM 5000, 7-Scenes 1000), max_dt (s),
 //           use_associations (use associations.txt when present)
-// [rawlog]  sensor_label (empty: any CObservation3DRangeScan)
+// [rawlog]  sensor_label (empty: the first RGB-D sensor seen)
 // [camera]  optional intrinsics of the colour image (width height fx fy cx cy k1 k2 p1 p2 k3):
 //           for TUM folders the apps fall back on the folder's camera.ini or name preset
 //           (pipeline/InputPreset.h), TumSource itself on the ROS default; overrides the
