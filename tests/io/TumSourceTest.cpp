@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
 
 #include "SyntheticRgbd.h"
 #include "TestData.h"
@@ -79,6 +80,30 @@ TEST(TumSource, UsesAssociationsFileAndSubsampling)
     EXPECT_EQ(a->index, 0u);
     EXPECT_EQ(b->index, 2u);
     EXPECT_FALSE(src->next().has_value());
+}
+
+TEST(TumSource, AssociationsWithDepthFirstAreReadRgbFirst)
+{
+    // associate.py depth.txt rgb.txt writes "t_depth depth/x.png t_rgb rgb/x.png".
+    test::TempDir dir;
+    test::writeTumFolder(dir.str(), 3, 0.005, false);
+    {
+        std::ofstream assoc(dir / "associations.txt");
+        for (int i = 0; i < 3; i++)
+            assoc << std::fixed << 100.0 + i / 30.0 + 0.005 << " depth/f" << i << ".png "
+                  << 100.0 + i / 30.0 << " rgb/f" << i << ".png\n";
+    }
+    io::TumSource src(dir.str(), params(1000.0));
+    ASSERT_EQ(src.sizeHint().value(), 3u);
+    for (int i = 0; i < 3; i++)
+    {
+        const auto f = src.next();
+        ASSERT_TRUE(f.has_value());
+        EXPECT_NEAR(f->timestamp, 100.0 + i / 30.0, 1e-6);
+        EXPECT_EQ(cv::norm(f->colour, test::patternColour(64, 48, i), cv::NORM_INF), 0.0);
+        EXPECT_NEAR(f->depth.at<float>(10, 20),
+                    test::patternDepthRaw(64, 48, i).at<uint16_t>(10, 20) / 1000.0, 1e-6);
+    }
 }
 
 TEST(TumSource, ReportsMissingImagesAndBadFolders)

@@ -26,6 +26,16 @@ void rawDepthToMetres(const cv::Mat& raw16, float unitsPerRaw, cv::Mat& depthMet
     }
 }
 
+namespace
+{
+/// "depth/1.png" -> "depth"; "" for a bare file name.
+std::string firstComponent(const std::string& relative)
+{
+    const fs::path p(relative);
+    return p.has_parent_path() ? p.begin()->string() : std::string();
+}
+}  // namespace
+
 TumSource::TumSource(const std::string& folder, const FrameSourceParameters& params)
     : FrameSource("TumSource"), folder_(folder), params_(params)
 {
@@ -34,6 +44,24 @@ TumSource::TumSource(const std::string& folder, const FrameSourceParameters& par
     if (params.tum_use_associations && fs::exists(assocPath))
     {
         entries_ = readTumAssociations(assocPath.string());
+        // associate.py run as "depth.txt rgb.txt" writes depth first: recognised by the folders.
+        size_t swapped = 0;
+        for (auto& e : entries_)
+        {
+            if (firstComponent(e.rgbFile) == "depth" && firstComponent(e.depthFile) == "rgb")
+            {
+                std::swap(e.rgbFile, e.depthFile);
+                std::swap(e.rgbTimestamp, e.depthTimestamp);
+                swapped++;
+            }
+        }
+        if (swapped > 0)
+        {
+            MRPT_LOG_WARN_FMT(
+                "%s: %zu line(s) list depth/ before rgb/ (associate.py given "
+                "depth.txt first); read as rgb, depth",
+                assocPath.c_str(), swapped);
+        }
         // Pairs further apart than max_dt: one warning with the count and the first line.
         size_t apart = 0;
         const TumAssociationEntry* first = nullptr;
