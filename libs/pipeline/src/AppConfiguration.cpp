@@ -36,24 +36,24 @@ std::unique_ptr<core::TrackedConfig> assemble(const CommandLine& cl,
 }
 }  // namespace
 
-std::string loadAppConfiguration(const CommandLine& cl,
-                                 const std::vector<mrpt::config::CLoadableOptions*>& params,
-                                 const std::string& input)
+void loadAppConfiguration(const CommandLine& cl,
+                          const std::vector<mrpt::config::CLoadableOptions*>& params,
+                          const std::string& input, mrpt::system::COutputLogger& log)
 {
     std::optional<InputPreset> preset;
     if (!input.empty() && !assemble(cl, std::nullopt)->sectionExists("camera"))
         preset = presetForInput(input);
     const auto cfg = assemble(cl, preset);
-    std::string note;
-    if (preset)
-    {
-        note = "no [camera] configured and '" + input + "' is a folder: " + preset->reason +
-               ", so " + preset->source +
-               " applies under the given configuration (a [camera] of your own replaces it)";
-    }
     for (auto* p : params)
         cfg->load(*p);
     cfg->ensureAllKeysUsed();
-    return note;
+    if (preset)
+    {
+        log.logStr(mrpt::system::LVL_INFO,
+                   "no [camera] configured and '" + input + "' is a folder: " + preset->reason +
+                       ", so " + preset->source +
+                       " applies under the given configuration (a [camera] of your own "
+                       "replaces it)");
+    }
 }
 }  // namespace smap::pipeline

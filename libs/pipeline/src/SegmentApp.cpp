@@ -84,10 +84,7 @@ int SegmentApp::run(const std::vector<std::string>& args, std::ostream& out)
 
     io::FrameSourceParameters sourceParams;
     segmentation::SegmentationParameters segParams;
-    const std::string presetNote =
-        loadAppConfiguration(cl, {&sourceParams, &segParams}, cl.positionals()[0]);
-    if (!presetNote.empty())
-        MRPT_LOG_INFO(presetNote);
+    loadAppConfiguration(cl, {&sourceParams, &segParams}, cl.positionals()[0], *this);
     sourceParams.stride *= static_cast<size_t>(every);
     if (maxFrames > 0)
         sourceParams.max_frames = static_cast<size_t>(maxFrames);

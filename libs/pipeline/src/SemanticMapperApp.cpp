@@ -226,9 +226,7 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
     {
         std::vector<mrpt::config::CLoadableOptions*> parts = params.parts();
         parts.insert(parts.begin(), &sourceParams);
-        const std::string presetNote = loadAppConfiguration(cl, parts, input);
-        if (!presetNote.empty())
-            MRPT_LOG_INFO(presetNote);
+        loadAppConfiguration(cl, parts, input, *this);
     }
     auto& seg = params.segmentation;
     if (seg.backend == "onnx" && seg.onnx.model.empty())

@@ -67,9 +67,7 @@ core::PinholeCamera compositeOnto(const CommandLine& cl, size_t frames, uint32_t
     if (count < 1 || count > 8)
         throw core::InputError("--people-count must be 1 .. 8");
     io::FrameSourceParameters params;
-    const std::string presetNote = loadAppConfiguration(cl, {&params}, folder);
-    if (!presetNote.empty())
-        log.logStr(mrpt::system::LVL_INFO, presetNote);
+    loadAppConfiguration(cl, {&params}, folder, log);
 
     io::TumSource source(folder, params);
     source.setMinLoggingLevel(log.getMinLoggingLevel());

@@ -40,9 +40,7 @@ int Tum2RawlogApp::run(const std::vector<std::string>& args, std::ostream& out)
         throw core::InputError("--max-frames must be >= 0");
 
     io::FrameSourceParameters params;
-    const std::string presetNote = loadAppConfiguration(cl, {&params}, cl.positionals()[0]);
-    if (!presetNote.empty())
-        MRPT_LOG_INFO(presetNote);
+    loadAppConfiguration(cl, {&params}, cl.positionals()[0], *this);
 
     io::TumSource source(cl.positionals()[0], params);
     source.setMinLoggingLevel(getMinLoggingLevel());

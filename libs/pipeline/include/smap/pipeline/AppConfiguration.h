@@ -4,6 +4,7 @@
 #pragma once
 
 #include <mrpt/config/CLoadableOptions.h>
+#include <mrpt/system/COutputLogger.h>
 
 #include <string>
 #include <vector>
@@ -16,10 +17,10 @@ namespace smap::pipeline
 /// that none of `params` reads.
 ///
 /// `input` is the recording the app will read: when the configuration has no [camera] and
-/// `input` is a folder whose name names a dataset (presetForInput), that dataset's preset is
-/// loaded first, under the files and overrides. Returns a line saying so for the app's log, or
-/// an empty string when no preset was applied.
-std::string loadAppConfiguration(const CommandLine& cl,
-                                 const std::vector<mrpt::config::CLoadableOptions*>& params,
-                                 const std::string& input = {});
+/// `input` is a folder with a preset of its own (presetForInput: its camera.ini, or the dataset
+/// its name names), that preset is loaded first, under the files and overrides, and `log` says
+/// so at INFO level.
+void loadAppConfiguration(const CommandLine& cl,
+                          const std::vector<mrpt::config::CLoadableOptions*>& params,
+                          const std::string& input, mrpt::system::COutputLogger& log);
 }  // namespace smap::pipeline
