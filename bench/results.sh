@@ -96,7 +96,25 @@ runs_file, speed_file, out_md, commit = sys.argv[1:5]
 runs = {}
 for line in open(runs_file):
     seq, mode, path = line.split()
-    runs.setdefault(seq, {})[mode] = json.load(open(path))
+    runs.setdefault(seq, {})[mode] = dict(json.load(open(path)), _dir=os.path.dirname(path))
+
+def lost_stretches(run_dir):
+    """'first-last' frame index ranges whose status in the run's frames.csv is lost."""
+    import csv
+    spans, start, prev = [], None, None
+    with open(os.path.join(run_dir, "frames.csv")) as f:
+        for row in csv.DictReader(f):
+            i = int(row["index"])
+            if row["status"] == "lost":
+                if start is None:
+                    start = i
+                prev = i
+            elif start is not None:
+                spans.append((start, prev))
+                start = None
+    if start is not None:
+        spans.append((start, prev))
+    return ["%d" % a if a == b else "%d-%d" % (a, b) for a, b in spans]
 
 def ate(m):
     e = m.get("evaluation", {}).get("ate")
@@ -201,9 +219,17 @@ if speed:
 L.append("## Reading the tables")
 L.append("")
 L.append("- ATE is computed over the frames with a pose; compare it with the frames-with-a-pose column.")
-L.append("  On 7scenes-people, best mode is lost from frame 740 (people cover half of a blurred view)")
-L.append("  to 924: meanwhile the camera turns to a part of the kitchen no keyframe saw, where")
-L.append("  relocalisation cannot succeed; the ATE covers the tracked part (docs/dynamic.md).")
+gaps = []
+for seq, modes in runs.items():
+    for mode in ("off", "paper", "best"):
+        if mode in modes:
+            s = lost_stretches(modes[mode]["_dir"])
+            if s:
+                gaps.append("%s %s: %s" % (seq, mode, ", ".join(s)))
+if gaps:
+    L.append("  Frames reported `lost` (frames.csv; no pose, left out of the ATE): " + "; ".join(gaps) + ".")
+else:
+    L.append("  No run reported a frame `lost`: every frame after the first has a pose in every run.")
 L.append("- The synthetic people are procedural figures that ESPNetv2 (trained on photographs) rarely")
 L.append("  recognises as persons: there the dynamic mask comes mostly from Algorithm 1's second step,")
 L.append("  around the dynamic keypoints. On real person cut-outs (7scenes-people) the CNN + CRF finds")
