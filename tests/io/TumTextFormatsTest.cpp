@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 #include <mrpt/math/CMatrixFixed.h>
+#include <mrpt/poses/CPose3D.h>
 
 #include <Eigen/Core>
 #include <sstream>
@@ -9,7 +10,6 @@
 #include "smap/io/TumTextFormats.h"
 
 using namespace smap::io;
-using smap::core::InputError;
 
 TEST(TumTextFormats, ParsesListsWithCommentsTabsAndCommas)
 {
@@ -78,4 +78,18 @@ TEST(TumTextFormats, TrajectoryRoundTripAtFullPrecision)
     }
     // qw is written non-negative: the second pose (qw = -1) comes out as identity, qw = +1.
     EXPECT_EQ(formatTumPose(back[1]).substr(formatTumPose(back[1]).size() - 2), " 1");
+}
+
+TEST(TumTextFormats, WrittenLinesLookLikeTumFiles)
+{
+    // Timestamps in plain decimals, as TUM's own files have them (never "1e+09", which
+    // line-oriented tools and people misread), and no "-0" for a zero.
+    smap::core::Trajectory t(1);
+    t[0].timestamp = 1e9;
+    t[0].T_world_cam = mrpt::poses::CPose3D(-0.0, 0.0, 1.5, 0.0, 0.0, 0.0);
+    EXPECT_EQ(formatTumPose(t[0]), "1000000000 0 0 1.5 0 0 0 1");
+    t[0].timestamp = 1305031102.175304;
+    EXPECT_EQ(formatTumPose(t[0]).substr(0, 18), "1305031102.175304 ");
+    t[0].timestamp = 0.25;
+    EXPECT_EQ(formatTumPose(t[0]).substr(0, 5), "0.25 ");
 }

@@ -73,10 +73,19 @@ std::ifstream openOrThrow(const std::string& path)
     return f;
 }
 
+/// Shortest text that reads back to the same double; "0" for a negative zero.
 std::string formatDouble(double v)
 {
     char buf[64];
-    const auto res = std::to_chars(buf, buf + sizeof(buf), v);
+    const auto res = std::to_chars(buf, buf + sizeof(buf), v + 0.0);
+    return std::string(buf, res.ptr);
+}
+
+/// The same in plain decimals (no exponent), as TUM's files write timestamps.
+std::string formatTimestamp(double t)
+{
+    char buf[400];  // the longest fixed-notation double
+    const auto res = std::to_chars(buf, buf + sizeof(buf), t + 0.0, std::chars_format::fixed);
     return std::string(buf, res.ptr);
 }
 }  // namespace
@@ -182,7 +191,7 @@ std::string formatTumPose(const core::StampedPose& pose)
     const mrpt::poses::CPose3DQuat pq(pose.T_world_cam);
     const auto& q = pq.quat();
     const double sign = q.r() < 0 ? -1.0 : 1.0;  // q and -q are the same rotation
-    std::string s = formatDouble(pose.timestamp);
+    std::string s = formatTimestamp(pose.timestamp);
     for (double v :
          {pq.x(), pq.y(), pq.z(), sign * q.x(), sign * q.y(), sign * q.z(), sign * q.r()})
         s += " " + formatDouble(v);
