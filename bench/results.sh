@@ -229,7 +229,7 @@ for seq, modes in runs.items():
 if gaps:
     L.append("  Frames reported `lost` (frames.csv; no pose, left out of the ATE): " + "; ".join(gaps) + ".")
 else:
-    L.append("  No run reported a frame `lost`: every frame after the first has a pose in every run.")
+    L.append("  No run reported a frame `lost`: every frame has a pose in every run.")
 L.append("- The synthetic people are procedural figures that ESPNetv2 (trained on photographs) rarely")
 L.append("  recognises as persons: there the dynamic mask comes mostly from Algorithm 1's second step,")
 L.append("  around the dynamic keypoints. On real person cut-outs (7scenes-people) the CNN + CRF finds")

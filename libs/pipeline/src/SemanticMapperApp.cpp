@@ -352,10 +352,10 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
     const size_t n = log.frames();
     const core::Trajectory trajectory = mapper.trajectory();
     io::writeTumTrajectory((dir / "trajectory.txt").string(), trajectory,
-                           "camera (optical frame) poses of every tracked frame, world = first "
-                           "tracked camera");
+                           "camera (optical frame) poses of every tracked frame, world = the "
+                           "first keyframe's camera");
     io::writeTumTrajectory((dir / "keyframes.txt").string(), mapper.keyFrameTrajectory(),
-                           "keyframe poses after local BA");
+                           "keyframe poses after bundle adjustment");
     writeText(dir / "frames.csv", log.framesCsv());
 
     const auto tOut = std::chrono::steady_clock::now();
