@@ -91,3 +91,31 @@ TEST(InputPreset, TheFoldersOwnCameraIniWinsOverItsName)
     EXPECT_EQ(p.camera->width, 320);
     EXPECT_EQ(p.camera->fx, 262.5);
 }
+
+TEST(InputPreset, AnOlderSmapSynthOutputIsNotTakenForItsSourceByName)
+{
+    // Composites written before smap-synth wrote camera.ini hold depth at 5000 units per metre
+    // whatever they were made from: the 7-Scenes preset (1000) would read it five times too far.
+    test::TempDir dir;
+    const std::string old = dir / "7scenes-people-1000";
+    fs::create_directories(old);
+    std::ofstream(old + "/meta.json")
+        << "{\n  \"generator\": \"smap-synth\",\n  \"mode\": \"composite\",\n"
+           "  \"depth_factor\": 5000\n}\n";
+    EXPECT_TRUE(pipeline::isSmapSynthOutput(old));
+    EXPECT_FALSE(pipeline::presetForInput(old).has_value());
+
+    const std::string compact = dir / "7scenes-compact";
+    fs::create_directories(compact);
+    std::ofstream(compact + "/meta.json") << R"({"generator":"smap-synth"})";
+    EXPECT_TRUE(pipeline::isSmapSynthOutput(compact));
+    EXPECT_FALSE(pipeline::presetForInput(compact).has_value());
+
+    // Another tool's meta.json does not stop the name rule.
+    const std::string other = dir / "7scenes-chess";
+    fs::create_directories(other);
+    std::ofstream(other + "/meta.json") << R"({"generator": "something-else"})";
+    EXPECT_FALSE(pipeline::isSmapSynthOutput(other));
+    ASSERT_TRUE(pipeline::presetForInput(other).has_value());
+    EXPECT_EQ(pipeline::presetForInput(other)->source, "config/7scenes.ini");
+}

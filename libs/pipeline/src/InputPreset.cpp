@@ -5,6 +5,7 @@
 #include <cctype>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 #include <system_error>
 
@@ -56,6 +57,8 @@ std::optional<InputPreset> presetForInput(const std::string& input)
     fs::path path(input);
     if (auto own = ownCameraFile(path))
         return own;
+    if (isSmapSynthOutput(input))
+        return std::nullopt;
 
     if (!path.has_filename())  // "dir/" -> "dir"
         path = path.parent_path();
@@ -76,5 +79,15 @@ std::optional<InputPreset> presetForInput(const std::string& input)
     return InputPreset{std::string("config/") + match->file,
                        std::string("its name says ") + match->dataset,
                        std::string(detail::embeddedPresetText(match->file))};
+}
+
+bool isSmapSynthOutput(const std::string& folder)
+{
+    std::ifstream meta(fs::path(folder) / "meta.json");
+    std::string text((std::istreambuf_iterator<char>(meta)), std::istreambuf_iterator<char>());
+    text.erase(std::remove_if(text.begin(), text.end(),
+                              [](unsigned char ch) { return std::isspace(ch) != 0; }),
+               text.end());
+    return text.find(R"("generator":"smap-synth")") != std::string::npos;
 }
 }  // namespace smap::pipeline

@@ -6,7 +6,6 @@
 
 #include <filesystem>
 #include <fstream>
-#include <iterator>
 #include <map>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -28,16 +27,6 @@ void writePng(const fs::path& path, const cv::Mat& img)
 {
     if (!cv::imwrite(path.string(), img))
         throw std::runtime_error("cannot write " + path.string());
-}
-
-/// An earlier smap-synth output (its meta.json names the generator): the only kind of existing
-/// folder --out may replace.
-bool isSynthOutput(const std::string& dir)
-{
-    std::ifstream meta(fs::path(dir) / "meta.json");
-    const std::string text((std::istreambuf_iterator<char>(meta)),
-                           std::istreambuf_iterator<char>());
-    return text.find("\"generator\": \"smap-synth\"") != std::string::npos;
 }
 }  // namespace
 
@@ -174,7 +163,7 @@ void SyntheticSequenceWriter::write(const FrameProducer& produce, size_t frames,
                 f.commit();
             }
         },
-        isSynthOutput);
+        isSmapSynthOutput);  // the only kind of existing folder --out may replace
 }
 
 void writeContactSheet(const std::string& sequenceFolder, size_t count, const std::string& pngPath)

@@ -24,7 +24,12 @@ struct InputPreset
 /// The preset for `input` when it is an existing folder that holds kFolderCameraFile (read
 /// now; InputError when unreadable), or whose own name (not a parent's) contains, ignoring case,
 /// one of "freiburg1", "freiburg2", "freiburg3" (config/tum_fr<N>.ini, built in) or "7scenes",
-/// "7-scenes", "7_scenes" (config/7scenes.ini); nothing otherwise, or when the name says two
-/// datasets.
+/// "7-scenes", "7_scenes" (config/7scenes.ini); nothing otherwise, when the name says two
+/// datasets, or for an smap-synth output without kFolderCameraFile (written before smap-synth
+/// wrote one: its depth is at 5000 units per metre whatever its source, so a composite named
+/// after 7-Scenes must not get 7-Scenes' depth factor).
 std::optional<InputPreset> presetForInput(const std::string& input);
+
+/// True when `folder` holds an smap-synth output: its meta.json names the generator.
+bool isSmapSynthOutput(const std::string& folder);
 }  // namespace smap::pipeline

@@ -21,7 +21,8 @@ class SyntheticSequenceWriter : public mrpt::system::COutputLogger
 public:
     SyntheticSequenceWriter();
     /// Renders frames [0, frames) and writes them into `folder`, which appears only when
-    /// complete (written under a temporary name, then renamed; an existing folder is replaced).
+    /// complete (written under a temporary name, then renamed); an existing folder is replaced only
+    /// when empty or an earlier smap-synth output (isSmapSynthOutput), else InputError.
     void write(sim::SequenceGenerator& generator, size_t frames, const std::string& folder);
 
     /// Frame i of any source (rendered or composited), its meta.json content and the camera the
