@@ -163,3 +163,24 @@ TEST(TrackedConfig, LaterFilesMergeOverEarlierOnes)
     EXPECT_NE(cfg.sourceName().find("seg.ini"), std::string::npos);
     EXPECT_THROW(cfg.mergeFile(dir / "missing.ini"), InputError);
 }
+
+TEST(TrackedConfig, ErrorsAfterAnOverrideNameSetAmongTheSources)
+{
+    // A typo in --set must not be blamed on a file alone (e.g. a preset the user never named).
+    TrackedConfig cfg;
+    cfg.loadText("[tum]\ndepth_factor = 1000\n", "config/7scenes.ini");
+    cfg.applyOverride("tum.bogus=1");
+    cfg.applyOverride("tum.depth_factor=5000");
+    EXPECT_EQ(cfg.sourceName(), "config/7scenes.ini + --set");
+    try
+    {
+        cfg.ensureAllKeysUsed();
+        ADD_FAILURE() << "unknown key accepted";
+    }
+    catch (const InputError& e)
+    {
+        EXPECT_NE(std::string(e.what()).find("config 'config/7scenes.ini + --set'"),
+                  std::string::npos)
+            << e.what();
+    }
+}

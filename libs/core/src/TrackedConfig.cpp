@@ -193,6 +193,9 @@ void TrackedConfig::applyOverride(const std::string& assignment)
         throw InputError(
             mrpt::format("--set '%s': %s", assignment.c_str(), mrpt::exception_to_str(e).c_str()));
     }
+    // Errors found later (unknown keys, bad values) then name --set among the sources.
+    if (sourceName_.size() < 8 || sourceName_.compare(sourceName_.size() - 8, 8, " + --set") != 0)
+        sourceName_ += " + --set";
 }
 
 std::string TrackedConfig::readString(const std::string& section, const std::string& name,

@@ -40,20 +40,22 @@ void loadAppConfiguration(const CommandLine& cl,
                           const std::vector<mrpt::config::CLoadableOptions*>& params,
                           const std::string& input, mrpt::system::COutputLogger& log)
 {
-    std::optional<InputPreset> preset;
-    if (!input.empty() && !assemble(cl, std::nullopt)->sectionExists("camera"))
-        preset = presetForInput(input);
-    const auto cfg = assemble(cl, preset);
+    auto cfg = assemble(cl, std::nullopt);
+    if (!input.empty() && !cfg->sectionExists("camera"))
+    {
+        if (const auto preset = presetForInput(input))
+        {
+            // Said before loading: an error below may name the preset's file.
+            log.logStr(mrpt::system::LVL_INFO,
+                       "no [camera] configured and '" + input + "' is a folder: " + preset->reason +
+                           ", so " + preset->source +
+                           " applies under the given configuration (a [camera] of your own "
+                           "replaces it)");
+            cfg = assemble(cl, preset);
+        }
+    }
     for (auto* p : params)
         cfg->load(*p);
     cfg->ensureAllKeysUsed();
-    if (preset)
-    {
-        log.logStr(mrpt::system::LVL_INFO,
-                   "no [camera] configured and '" + input + "' is a folder: " + preset->reason +
-                       ", so " + preset->source +
-                       " applies under the given configuration (a [camera] of your own "
-                       "replaces it)");
-    }
 }
 }  // namespace smap::pipeline

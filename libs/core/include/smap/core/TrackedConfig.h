@@ -26,7 +26,8 @@ public:
     void loadYamlText(const std::string& yamlText, const std::string& sourceName);
     /// Loads another file (INI or YAML) on top: its keys replace or add to the present ones.
     void mergeFile(const std::string& path);
-    /// Applies "section.key=value" (as given to --set). Throws InputError when malformed.
+    /// Applies "section.key=value" (as given to --set); sourceName() then ends in " + --set".
+    /// Throws InputError when malformed.
     void applyOverride(const std::string& assignment);
 
     const std::string& sourceName() const { return sourceName_; }
