@@ -6,20 +6,26 @@
 
 namespace smap::pipeline
 {
+namespace
+{
+/// The upper median (0 for none).
+double median(std::vector<double> v)
+{
+    if (v.empty())
+        return 0.0;
+    std::nth_element(v.begin(), v.begin() + static_cast<long>(v.size() / 2), v.end());
+    return v[v.size() / 2];
+}
+}  // namespace
+
 core::JsonValue timingJson(const std::vector<double>& milliseconds)
 {
-    std::vector<double> v = milliseconds;
-    double median = 0.0, sum = 0.0;
-    if (!v.empty())
-    {
-        std::nth_element(v.begin(), v.begin() + static_cast<long>(v.size() / 2), v.end());
-        median = v[v.size() / 2];
-    }
-    for (const double x : v)
+    double sum = 0.0;
+    for (const double x : milliseconds)
         sum += x;
     auto j = core::JsonValue::object();
-    j.set("median_ms", median).set("total_s", sum / 1000.0);
-    j.set("count", static_cast<uint64_t>(v.size()));
+    j.set("median_ms", median(milliseconds)).set("total_s", sum / 1000.0);
+    j.set("count", static_cast<uint64_t>(milliseconds.size()));
     return j;
 }
 
@@ -65,11 +71,6 @@ std::string RunLog::trackingDiagnosis(double minDepth, double maxDepth) const
             medians.push_back(row.stats.depthMedian);
         intensities.push_back(row.stats.meanIntensity);
     }
-    const auto median = [](std::vector<double> v)
-    {
-        std::nth_element(v.begin(), v.begin() + static_cast<long>(v.size() / 2), v.end());
-        return v[v.size() / 2];
-    };
     const double validDepth = sumValidDepth_ / static_cast<double>(n);
     std::string why;
     if (validDepth < 0.05)
