@@ -99,13 +99,14 @@ for line in open(runs_file):
     runs.setdefault(seq, {})[mode] = dict(json.load(open(path)), _dir=os.path.dirname(path))
 
 def lost_stretches(run_dir):
-    """'first-last' frame index ranges whose status in the run's frames.csv is lost."""
+    """'first-last' frame index ranges without a pose in the run's frames.csv (status lost or
+    not_initialised)."""
     import csv
     spans, start, prev = [], None, None
     with open(os.path.join(run_dir, "frames.csv")) as f:
         for row in csv.DictReader(f):
             i = int(row["index"])
-            if row["status"] == "lost":
+            if row["status"] in ("lost", "not_initialised"):
                 if start is None:
                     start = i
                 prev = i
@@ -227,9 +228,10 @@ for seq, modes in runs.items():
             if s:
                 gaps.append("%s %s: %s" % (seq, mode, ", ".join(s)))
 if gaps:
-    L.append("  Frames reported `lost` (frames.csv; no pose, left out of the ATE): " + "; ".join(gaps) + ".")
+    L.append("  Frames without a pose (`lost` or `not_initialised` in frames.csv; left out of the ATE): "
+             + "; ".join(gaps) + ".")
 else:
-    L.append("  No run reported a frame `lost`: every frame has a pose in every run.")
+    L.append("  No run has a frame `lost` or `not_initialised`: every frame has a pose in every run.")
 L.append("- The synthetic people are procedural figures that ESPNetv2 (trained on photographs) rarely")
 L.append("  recognises as persons: there the dynamic mask comes mostly from Algorithm 1's second step,")
 L.append("  around the dynamic keypoints. On real person cut-outs (7scenes-people) the CNN + CRF finds")
