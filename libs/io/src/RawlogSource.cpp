@@ -80,10 +80,9 @@ struct RawlogSource::Impl
     size_t frames = 0;
     size_t rgbdWithoutImages = 0;
     size_t rgbdOtherLabel = 0;
-    /// With no [rawlog] sensor_label: the label of the first usable RGB-D observation, the only
-    /// one read (two cameras interleaved would be one camera jumping between two places).
-    std::optional<std::string> firstLabel;
-    size_t rgbdOtherSensor = 0;
+    /// The sensor read: [rawlog] sensor_label, else the label of the first usable RGB-D
+    /// observation (two cameras interleaved would be one camera jumping between two places).
+    std::optional<std::string> label;
     bool ended = false;
     bool warnedDepthSize = false;
     bool warnedColourSize = false;
@@ -165,10 +164,16 @@ bool RawlogSource::Impl::fill(COutputLogger& log)
             auto scan = std::dynamic_pointer_cast<CObservation3DRangeScan>(o);
             if (!scan)
                 continue;
-            if (!params.rawlog_sensor_label.empty() &&
-                scan->sensorLabel != params.rawlog_sensor_label)
+            if (label && scan->sensorLabel != *label)
             {
-                rgbdOtherLabel++;
+                if (++rgbdOtherLabel == 1 && params.rawlog_sensor_label.empty())
+                {
+                    log.logFmt(mrpt::system::LVL_WARN,
+                               "rawlog '%s' entry %zu: RGB-D observations from another sensor "
+                               "('%s'); reading only '%s', the first one seen (choose with "
+                               "[rawlog] sensor_label)",
+                               path.c_str(), entries, scan->sensorLabel.c_str(), label->c_str());
+                }
                 continue;
             }
             if (!scan->hasRangeImage || !scan->hasIntensityImage)
@@ -184,24 +189,8 @@ bool RawlogSource::Impl::fill(COutputLogger& log)
                 }
                 continue;
             }
-            if (params.rawlog_sensor_label.empty())
-            {
-                if (!firstLabel)
-                    firstLabel = scan->sensorLabel;
-                else if (scan->sensorLabel != *firstLabel)
-                {
-                    if (++rgbdOtherSensor == 1)
-                    {
-                        log.logFmt(mrpt::system::LVL_WARN,
-                                   "rawlog '%s' entry %zu: RGB-D observations from another sensor "
-                                   "('%s'); reading only '%s', the first one seen (choose with "
-                                   "[rawlog] sensor_label)",
-                                   path.c_str(), entries, scan->sensorLabel.c_str(),
-                                   firstLabel->c_str());
-                    }
-                    continue;
-                }
-            }
+            if (!label)
+                label = scan->sensorLabel;
             pending.push_back(scan);
         }
     }
@@ -354,6 +343,8 @@ RawlogSource::RawlogSource(const std::string& path, const FrameSourceParameters&
 {
     impl_->path = path;
     impl_->params = params;
+    if (!params.rawlog_sensor_label.empty())
+        impl_->label = params.rawlog_sensor_label;
     const fs::path p(path);
     // Same search order as MRPT's CRawlog::detectImagesDirectory (RawLogViewer, rawlog-edit).
     impl_->imagesDir = (p.parent_path() / "Images").string();
