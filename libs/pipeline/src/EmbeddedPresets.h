@@ -6,7 +6,7 @@
 
 namespace smap::pipeline::detail
 {
-/// INI text of config/<file> ("tum_fr1.ini", "tum_fr2.ini", "tum_fr3.ini", "7scenes.ini") as it
-/// was at build time; empty for any other name.
+/// INI text of config/<file> as it was at build time, for the files listed in SMAP_PRESET_FILES
+/// (libs/pipeline/CMakeLists.txt: tum_fr1, tum_fr2, tum_fr3, 7scenes); empty for any other name.
 std::string_view embeddedPresetText(std::string_view file);
 }  // namespace smap::pipeline::detail
