@@ -40,10 +40,10 @@ std::optional<InputPreset> ownCameraFile(const fs::path& folder)
     if (!fs::is_regular_file(path, ec))
         return std::nullopt;
     std::ifstream in(path);
+    if (!in)  // e.g. no read permission: say so rather than apply an empty preset
+        throw core::InputError("cannot open config file '" + path.string() + "'");
     std::ostringstream text;
     text << in.rdbuf();
-    if (!in.good() && !in.eof())
-        throw core::InputError("cannot read '" + path.string() + "'");
     return InputPreset{path.string(),
                        "the folder carries its own " + std::string(kFolderCameraFile), text.str()};
 }
