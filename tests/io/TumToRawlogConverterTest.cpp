@@ -135,3 +135,22 @@ TEST(TumToRawlogConverter, ImagesListedOutsideTheFolderAreCopiedIntoTheImagesFol
 
     expectSameFrames(dir / "tum", p, dir / "out.rawlog", 3);
 }
+
+TEST(TumToRawlogConverter, ColourImagesThatDoNotFitTheCameraAreRefused)
+{
+    // Colour files are copied, not decoded: without this check a rawlog whose intrinsics do not
+    // fit its colour images would be written, and only fail when read.
+    test::TempDir dir;
+    test::writeTumFolder(dir / "tum", 2, 0.0, false);
+    cv::imwrite(dir.str() + "/tum/rgb/f0.png", cv::Mat(24, 32, CV_8UC3, cv::Scalar(50, 90, 130)));
+    io::FrameSourceParameters p;
+    p.camera = test::smallCamera();
+    io::TumSource folder(dir / "tum", p);
+    io::TumToRawlogConverter conv;
+    const std::string msg =
+        test::inputErrorOf([&] { conv.convert(folder, 5000.0, dir / "out.rawlog"); });
+    EXPECT_NE(msg.find("f0.png"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("32x24"), std::string::npos) << msg;
+    EXPECT_FALSE(fs::exists(dir / "out.rawlog"));
+    EXPECT_FALSE(fs::exists(dir / "out_Images"));
+}

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
 
 #include "smap/core/AtomicFile.h"
 #include "smap/core/InputError.h"
@@ -82,6 +83,18 @@ TumToRawlogConverter::Result TumToRawlogConverter::convert(TumSource& source, do
                         if (!fs::exists(rgbSrc))
                             throw core::InputError(
                                 mrpt::format("colour image '%s' does not exist", rgbSrc.c_str()));
+                        if (i == 0)  // colour is copied, not decoded: its size checked once
+                        {
+                            const cv::Mat c = cv::imread(rgbSrc.string(), cv::IMREAD_UNCHANGED);
+                            if (c.empty())
+                                throw core::InputError(mrpt::format(
+                                    "colour image '%s' cannot be read", rgbSrc.c_str()));
+                            if (c.cols != cam.width || c.rows != cam.height)
+                                throw core::InputError(mrpt::format(
+                                    "colour image '%s' is %dx%d but the camera is %dx%d (give "
+                                    "the folder's [camera], e.g. --config config/tum_fr1.ini)",
+                                    rgbSrc.c_str(), c.cols, c.rows, cam.width, cam.height));
+                        }
                         fs::create_directories((tmpImagesDir / rgbRel).parent_path());
                         fs::copy_file(rgbSrc, tmpImagesDir / rgbRel,
                                       fs::copy_options::overwrite_existing);
