@@ -7,20 +7,12 @@
 #include <utility>
 #include <vector>
 
+#include "smap/core/Median.h"
 #include "smap/features/DescriptorMatcher.h"
 #include "smap/features/FeatureGrid.h"
 
 namespace smap::dynamic
 {
-namespace
-{
-double median(std::vector<double>& v)
-{
-    std::nth_element(v.begin(), v.begin() + static_cast<long>(v.size() / 2), v.end());
-    return v[v.size() / 2];
-}
-}  // namespace
-
 namespace
 {
 /// The previous keypoints in a grid for radius queries (32 px cells: the match radius is
@@ -188,12 +180,12 @@ EgoMotion estimateEgoMotionFivePoint(const features::FeatureSet& previous,
     if (s3.size() >= 5)
     {
         out.scaleSamples = static_cast<int>(s3.size());
-        scale = median(s3);
+        scale = core::upperMedianInPlace(s3);
     }
     else if (s2.size() >= 5)
     {
         out.scaleSamples = static_cast<int>(s2.size());
-        scale = median(s2);
+        scale = core::upperMedianInPlace(s2);
     }
     else
     {

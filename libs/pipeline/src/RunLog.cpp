@@ -4,19 +4,11 @@
 
 #include <algorithm>
 
+#include "smap/core/Median.h"
+
 namespace smap::pipeline
 {
-namespace
-{
-/// The upper median (0 for none).
-double median(std::vector<double> v)
-{
-    if (v.empty())
-        return 0.0;
-    std::nth_element(v.begin(), v.begin() + static_cast<long>(v.size() / 2), v.end());
-    return v[v.size() / 2];
-}
-}  // namespace
+using core::upperMedian;
 
 core::JsonValue timingJson(const std::vector<double>& milliseconds)
 {
@@ -24,7 +16,7 @@ core::JsonValue timingJson(const std::vector<double>& milliseconds)
     for (const double x : milliseconds)
         sum += x;
     auto j = core::JsonValue::object();
-    j.set("median_ms", median(milliseconds)).set("total_s", sum / 1000.0);
+    j.set("median_ms", upperMedian(milliseconds)).set("total_s", sum / 1000.0);
     j.set("count", static_cast<uint64_t>(milliseconds.size()));
     return j;
 }
@@ -78,12 +70,12 @@ std::string RunLog::trackingDiagnosis(double minDepth, double maxDepth) const
             "the depth images hold almost no valid depth (%.1f %% of the pixels on average): "
             "check the depth files",
             100.0 * validDepth);
-    else if (const double z = median(medians); z < minDepth || z > maxDepth)
+    else if (const double z = upperMedian(medians); z < minDepth || z > maxDepth)
         why = mrpt::format(
             "the median depth is %.2f m, outside the tracker's %.2f - %.2f m: check the depth "
             "scale ([tum] depth_factor: TUM 5000, 7-Scenes 1000 units per metre)",
             z, minDepth, maxDepth);
-    else if (median(intensities) < 5.0)
+    else if (upperMedian(intensities) < 5.0)
         why = "the colour images are (nearly) black";
     else
         why =

@@ -10,6 +10,7 @@
 #include "smap/core/AtomicFile.h"
 #include "smap/core/InputError.h"
 #include "smap/core/JsonWriter.h"
+#include "smap/core/Median.h"
 #include "smap/core/OutputDirectory.h"
 #include "smap/io/FrameSource.h"
 #include "smap/pipeline/AppConfiguration.h"
@@ -32,13 +33,7 @@ void writeImage(const fs::path& path, const cv::Mat& img)
                               });
 }
 
-double median(std::vector<double> v)
-{
-    if (v.empty())
-        return 0.0;
-    std::nth_element(v.begin(), v.begin() + static_cast<long>(v.size() / 2), v.end());
-    return v[v.size() / 2];
-}
+using core::upperMedian;
 }  // namespace
 
 SegmentApp::SegmentApp() : COutputLogger("smap-segment") {}
@@ -130,12 +125,12 @@ int SegmentApp::run(const std::vector<std::string>& args, std::ostream& out)
         .set("segmenter", segmenter->description())
         .set("frames", static_cast<uint64_t>(times.size()))
         .set("every", static_cast<int64_t>(every))
-        .set("median_ms_per_frame", median(times));
+        .set("median_ms_per_frame", upperMedian(times));
     core::AtomicTextFile f((outDir / "segmentation.json").string());
     f.stream() << j.dump();
     f.commit();
     out << mrpt::format("smap-segment: %zu frames -> %s (median %.1f ms per frame, %s)\n",
-                        times.size(), outDir.string().c_str(), median(times),
+                        times.size(), outDir.string().c_str(), upperMedian(times),
                         segmenter->description().c_str());
     return kExitOk;
 }
