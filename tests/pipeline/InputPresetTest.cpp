@@ -26,6 +26,16 @@ io::FrameSourceParameters parametersFor(const std::string& folder)
     }
     return p;
 }
+
+/// Creates the folder `parent/name` holding one file, `file`, with `text`; returns its path.
+std::string folderWith(const std::string& parent, const std::string& name, const std::string& file,
+                       const std::string& text)
+{
+    const std::string folder = parent + "/" + name;
+    fs::create_directories(folder);
+    std::ofstream(folder + "/" + file) << text;
+    return folder;
+}
 }  // namespace
 
 TEST(InputPreset, BuiltInPresetsAreTheConfigFilesAsBuilt)
@@ -78,11 +88,10 @@ TEST(InputPreset, OnlyTheFolderItselfAndOnlyOneDatasetCount)
 TEST(InputPreset, TheFoldersOwnCameraIniWinsOverItsName)
 {
     test::TempDir dir;
-    const std::string folder = dir / "rgbd_dataset_freiburg3_composited";
-    fs::create_directories(folder);
-    std::ofstream(folder + "/camera.ini")
-        << "[camera]\nwidth = 320\nheight = 240\nfx = 262.5\nfy = 262.5\ncx = 159.5\ncy = "
-           "119.5\n[tum]\ndepth_factor = 5000\n";
+    const std::string folder =
+        folderWith(dir.str(), "rgbd_dataset_freiburg3_composited", "camera.ini",
+                   "[camera]\nwidth = 320\nheight = 240\nfx = 262.5\nfy = 262.5\ncx = 159.5\ncy = "
+                   "119.5\n[tum]\ndepth_factor = 5000\n");
     const auto preset = pipeline::presetForInput(folder);
     ASSERT_TRUE(preset.has_value());
     EXPECT_EQ(preset->source, folder + "/camera.ini");
@@ -97,24 +106,20 @@ TEST(InputPreset, AnOlderSmapSynthOutputIsNotTakenForItsSourceByName)
     // Composites written before smap-synth wrote camera.ini hold depth at 5000 units per metre
     // whatever they were made from: the 7-Scenes preset (1000) would read it five times too far.
     test::TempDir dir;
-    const std::string old = dir / "7scenes-people-1000";
-    fs::create_directories(old);
-    std::ofstream(old + "/meta.json")
-        << "{\n  \"generator\": \"smap-synth\",\n  \"mode\": \"composite\",\n"
-           "  \"depth_factor\": 5000\n}\n";
+    const std::string old = folderWith(dir.str(), "7scenes-people-1000", "meta.json",
+                                       "{\n  \"generator\": \"smap-synth\",\n  \"mode\": "
+                                       "\"composite\",\n  \"depth_factor\": 5000\n}\n");
     EXPECT_TRUE(pipeline::isSmapSynthOutput(old));
     EXPECT_FALSE(pipeline::presetForInput(old).has_value());
 
-    const std::string compact = dir / "7scenes-compact";
-    fs::create_directories(compact);
-    std::ofstream(compact + "/meta.json") << R"({"generator":"smap-synth"})";
+    const std::string compact =
+        folderWith(dir.str(), "7scenes-compact", "meta.json", R"({"generator":"smap-synth"})");
     EXPECT_TRUE(pipeline::isSmapSynthOutput(compact));
     EXPECT_FALSE(pipeline::presetForInput(compact).has_value());
 
     // Another tool's meta.json does not stop the name rule.
-    const std::string other = dir / "7scenes-chess";
-    fs::create_directories(other);
-    std::ofstream(other + "/meta.json") << R"({"generator": "something-else"})";
+    const std::string other =
+        folderWith(dir.str(), "7scenes-chess", "meta.json", R"({"generator": "something-else"})");
     EXPECT_FALSE(pipeline::isSmapSynthOutput(other));
     ASSERT_TRUE(pipeline::presetForInput(other).has_value());
     EXPECT_EQ(pipeline::presetForInput(other)->source, "config/7scenes.ini");
