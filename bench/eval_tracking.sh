@@ -2,7 +2,9 @@
 # Tracking accuracy table (issue: ORB-SLAM-style tracking). Renders the synthetic presets
 # (cached under $SMAP_EVAL_CACHE, default /tmp/smap-eval-cache), runs semantic-mapper on each
 # and on ../shared/data/7scenes-redkitchen, and prints ATE RMSE / frames tracked per sequence.
-# Optional: SMAP_OPEN3D=1 also runs Open3D's RGB-D odometry on 7-Scenes (python3-open3d).
+# Optional: SMAP_OPEN3D=1 also runs Open3D's RGB-D odometry on 7-Scenes (python3-open3d);
+# SMAP_EVAL_SEEDS="1 2 3" renders each preset with those smap-synth seeds (other scenes,
+# people and camera paths; default 1), rows named PRESET-sSEED for seeds other than 1.
 # Usage: bench/eval_tracking.sh [BUILD_DIR] [extra semantic-mapper args...]
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
@@ -11,6 +13,7 @@ shift || true
 bin="$build/bin"
 cache="${SMAP_EVAL_CACHE:-/tmp/smap-eval-cache}"
 frames="${SMAP_EVAL_FRAMES:-300}"
+seeds="${SMAP_EVAL_SEEDS:-1}"
 presets="${SMAP_EVAL_PRESETS:-static_xyz static_halfsphere static_rpy static_static static_handheld walking_xyz walking_halfsphere walking_rpy walking_static sitting_xyz sitting_halfsphere}"
 mkdir -p "$cache"
 
@@ -34,11 +37,17 @@ PY
 }
 
 for p in $presets; do
-    dir="$cache/$p-$frames"
-    if [ ! -f "$dir/groundtruth.txt" ]; then
-        "$bin/smap-synth" --preset "$p" --out "$dir" --frames "$frames" --no-rawlog >/dev/null
-    fi
-    run_one "$p" "$dir" "$dir/groundtruth.txt" --config "$root/config/synthetic.ini" "$@"
+    for seed in $seeds; do
+        name="$p" dir="$cache/$p-$frames"
+        if [ "$seed" != 1 ]; then
+            name="$p-s$seed" dir="$cache/$p-$frames-s$seed"
+        fi
+        if [ ! -f "$dir/groundtruth.txt" ]; then
+            "$bin/smap-synth" --preset "$p" --seed "$seed" --out "$dir" --frames "$frames" \
+                --no-rawlog >/dev/null
+        fi
+        run_one "$name" "$dir" "$dir/groundtruth.txt" --config "$root/config/synthetic.ini" "$@"
+    done
 done
 seven="$root/../shared/data/7scenes-redkitchen"
 if [ -d "$seven" ]; then
