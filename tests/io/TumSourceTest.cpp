@@ -151,3 +151,87 @@ TEST(TumSource, NoOverlappingTimestampsIsAnError)
         EXPECT_NE(std::string(e.what()).find("no rgb/depth pairs"), std::string::npos);
     }
 }
+
+namespace
+{
+/// A room-scale view: depth rising from 0.8 m at the top to 4.0 m at the bottom, a few holes.
+cv::Mat roomDepth(float scale)
+{
+    cv::Mat d(48, 64, CV_32FC1);
+    for (int v = 0; v < d.rows; v++)
+        for (int u = 0; u < d.cols; u++)
+            d.at<float>(v, u) = (u % 13 == 0) ? 0.0F : scale * (0.8F + 3.2F * v / (d.rows - 1));
+    return d;
+}
+}  // namespace
+
+TEST(TumSource, DepthInTheRightUnitIsPlausible)
+{
+    EXPECT_FALSE(io::implausibleDepthScale(roomDepth(1.0F), 5000.0).has_value());
+    EXPECT_FALSE(io::implausibleDepthScale(roomDepth(1.0F), 1000.0).has_value());
+}
+
+TEST(TumSource, MillimetresReadAsTumUnitsAreReported)
+{
+    // Millimetre PNGs read at 5000 units per metre: every depth 5x too small.
+    const auto w = io::implausibleDepthScale(roomDepth(0.2F), 5000.0);
+    ASSERT_TRUE(w.has_value());
+    EXPECT_NE(w->find("depth 0.77 m"), std::string::npos) << *w;
+    EXPECT_NE(w->find("depth_factor = 5000"), std::string::npos) << *w;
+    EXPECT_NE(w->find("depth_factor = 1000"), std::string::npos) << *w;
+}
+
+TEST(TumSource, TumUnitsReadAsMillimetresAreReported)
+{
+    const auto w = io::implausibleDepthScale(roomDepth(5.0F), 1000.0);
+    ASSERT_TRUE(w.has_value());
+    EXPECT_NE(w->find("depth 19.32 m"), std::string::npos) << *w;
+    EXPECT_NE(w->find("set [tum] depth_factor = 5000"), std::string::npos) << *w;
+}
+
+TEST(TumSource, TooLittleDepthIsNotJudged)
+{
+    cv::Mat d(48, 64, CV_32FC1, cv::Scalar(0.0F));
+    d(cv::Rect(0, 0, 10, 10)).setTo(0.1F);  // 100 of 3072 pixels, all implausibly near
+    EXPECT_FALSE(io::implausibleDepthScale(d, 5000.0).has_value());
+    d(cv::Rect(0, 0, 20, 20)).setTo(0.1F);  // 400: now judged
+    EXPECT_TRUE(io::implausibleDepthScale(d, 5000.0).has_value());
+}
+
+TEST(TumSource, WarnsOnceNamingTheDepthImageWhenTheUnitLooksWrong)
+{
+    test::TempDir dir;
+    test::writeTumFolder(dir.str(), 3, 0.0, false);  // raw 5000-8000: 5-8 m in millimetres
+    io::TumSource src(dir.str(), params(250.0));     // read 4x too far: 20-32 m
+    src.logging_enable_console_output = false;
+    std::vector<std::string> warnings;
+    src.logRegisterCallback(
+        [&](std::string_view msg, mrpt::system::VerbosityLevel level, std::string_view,
+            mrpt::Clock::time_point)
+        {
+            if (level == mrpt::system::LVL_WARN)
+                warnings.emplace_back(msg);
+        });
+    while (src.next())
+    {
+    }
+    ASSERT_EQ(warnings.size(), 1u);
+    EXPECT_NE(warnings[0].find(dir.str() + "/depth/f0.png"), std::string::npos) << warnings[0];
+    EXPECT_NE(warnings[0].find("depth_factor = 250"), std::string::npos) << warnings[0];
+    EXPECT_NE(warnings[0].find("check [tum] depth_factor"), std::string::npos) << warnings[0];
+
+    io::TumSource right(dir.str(), params(1000.0));
+    right.logging_enable_console_output = false;
+    warnings.clear();
+    right.logRegisterCallback(
+        [&](std::string_view msg, mrpt::system::VerbosityLevel level, std::string_view,
+            mrpt::Clock::time_point)
+        {
+            if (level == mrpt::system::LVL_WARN)
+                warnings.emplace_back(msg);
+        });
+    while (right.next())
+    {
+    }
+    EXPECT_TRUE(warnings.empty());
+}

@@ -2,6 +2,8 @@
 
 #include <mrpt/core/format.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -24,6 +26,48 @@ void rawDepthToMetres(const cv::Mat& raw16, float unitsPerRaw, cv::Mat& depthMet
             dst[c] =
                 src[c] == kRawDepthInvalidHigh ? 0.0F : static_cast<float>(src[c]) * unitsPerRaw;
     }
+}
+
+std::optional<std::string> implausibleDepthScale(const cv::Mat& depthMetres, double depthFactor)
+{
+    CV_Assert(depthMetres.type() == CV_32FC1);
+    std::vector<float> valid;
+    valid.reserve(depthMetres.total());
+    for (int r = 0; r < depthMetres.rows; r++)
+    {
+        const auto* d = depthMetres.ptr<float>(r);
+        for (int c = 0; c < depthMetres.cols; c++)
+            if (d[c] > 0.0F && std::isfinite(d[c]))
+                valid.push_back(d[c]);
+    }
+    if (valid.empty() || 10 * valid.size() < depthMetres.total())
+        return std::nullopt;
+    const auto p95 = valid.begin() + static_cast<std::ptrdiff_t>(valid.size() * 95 / 100);
+    std::nth_element(valid.begin(), p95, valid.end());
+    constexpr float kNearest = 1.2F;    // m: a room-scale view reaches further
+    constexpr float kFarthest = 10.0F;  // m: beyond what RGB-D sensors measure indoors
+    const float far = *p95;
+    if (far >= kNearest && far <= kFarthest)
+        return std::nullopt;
+    const bool tooNear = far < kNearest;
+    // The two common mix-ups get a concrete value; anything else the raw unit to check.
+    const char* hint = "; check [tum] depth_factor (raw depth units per metre)";
+    if (tooNear && depthFactor == 5000.0)
+    {
+        hint =
+            "; if the PNGs hold millimetres (7-Scenes, most RealSense / Azure Kinect "
+            "recordings), set [tum] depth_factor = 1000";
+    }
+    else if (!tooNear && depthFactor == 1000.0)
+    {
+        hint = "; TUM RGB-D's PNGs hold 5000 units per metre: set [tum] depth_factor = 5000";
+    }
+    return mrpt::format(
+        "95th percentile of the valid depth %.2f m at [tum] depth_factor = %g (%s): the depth "
+        "unit looks wrong%s",
+        static_cast<double>(far), depthFactor,
+        tooNear ? "a whole view this close is unusual" : "further than RGB-D sensors measure",
+        hint);
 }
 
 namespace
@@ -187,6 +231,19 @@ std::optional<core::RgbdFrame> TumSource::next()
                                             camera_.width, camera_.height));
     }
     rawDepthToMetres(raw, static_cast<float>(1.0 / params_.tum_depth_factor), f.depth);
+    if (!depthScaleChecked_)
+    {
+        // Only the depth unit, and only once: the first frame with depth over a tenth of it.
+        if (cv::countNonZero(f.depth) * 10 >= static_cast<int>(f.depth.total()))
+        {
+            depthScaleChecked_ = true;
+            if (const auto w = implausibleDepthScale(f.depth, params_.tum_depth_factor))
+            {
+                MRPT_LOG_WARN_FMT("depth image '%s': %s", absolutePath(e.depthFile).c_str(),
+                                  w->c_str());
+            }
+        }
+    }
     f.camera = camera_;
     f.timestamp = e.rgbTimestamp;
     f.index = i;

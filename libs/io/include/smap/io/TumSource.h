@@ -3,6 +3,8 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
+#include <string>
 #include <vector>
 
 #include "smap/io/FrameSource.h"
@@ -36,6 +38,7 @@ private:
     core::PinholeCamera camera_;
     std::vector<TumAssociationEntry> entries_;
     size_t cursor_ = 0;
+    bool depthScaleChecked_ = false;  ///< the first frame with enough depth was checked
 };
 
 /// Raw depth values that mean "no measurement": 0, and the largest 16-bit value, which some
@@ -47,4 +50,11 @@ constexpr uint16_t kRawDepthInvalidHigh = 65535;
 /// kRawDepthInvalidHigh. The same float product is used for rawlogs (raw * rangeUnits), so a TUM
 /// folder and its tum2rawlog conversion agree bit for bit.
 void rawDepthToMetres(const cv::Mat& raw16, float unitsPerRaw, cv::Mat& depthMetres);
+
+/// A warning when `depthMetres` (CV_32FC1, 0 = invalid), converted at `depthFactor` raw units per
+/// metre, looks like the wrong unit: the 95th percentile of its valid depths under 1.2 m (the
+/// whole view that close: millimetre PNGs read at TUM's 5000 shrink depth 5x) or over 10 m (TUM's
+/// 5000-unit PNGs read as millimetres stretch it 5x). Empty when plausible, or when less than a
+/// tenth of the pixels has depth (nothing to judge by).
+std::optional<std::string> implausibleDepthScale(const cv::Mat& depthMetres, double depthFactor);
 }  // namespace smap::io
