@@ -45,7 +45,8 @@ TEST(InputPreset, BuiltInPresetsAreTheConfigFilesAsBuilt)
         {"rgbd_dataset_freiburg1_xyz", "tum_fr1.ini"},
         {"rgbd_dataset_freiburg2_pioneer_360", "tum_fr2.ini"},
         {"rgbd_dataset_freiburg3_walking_xyz_validation", "tum_fr3.ini"},
-        {"7scenes-chess", "7scenes.ini"}};
+        {"7scenes-chess", "7scenes.ini"},
+        {"rgbd_bonn_crowd2", "bonn.ini"}};
     for (const auto& [name, file] : cases)
     {
         fs::create_directories(dir / name);
@@ -63,6 +64,12 @@ TEST(InputPreset, BuiltInPresetsAreTheConfigFilesAsBuilt)
     ASSERT_TRUE(kitchen.camera.has_value());
     EXPECT_EQ(kitchen.camera->fx, 585.0);
     EXPECT_EQ(kitchen.tum_depth_factor, 1000.0);
+    const auto bonn = parametersFor(dir / "rgbd_bonn_crowd2");
+    ASSERT_TRUE(bonn.camera.has_value());
+    EXPECT_EQ(bonn.camera->fx, 542.822841);
+    EXPECT_EQ(bonn.camera->distortion[0], 0.039903);
+    EXPECT_EQ(bonn.camera->distortion[3], -0.000144);
+    EXPECT_EQ(bonn.tum_depth_factor, 5000.0);
 }
 
 TEST(InputPreset, OnlyTheFolderItselfAndOnlyOneDatasetCount)

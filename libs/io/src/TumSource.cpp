@@ -166,10 +166,11 @@ TumSource::TumSource(const std::string& folder, const FrameSourceParameters& par
     else
     {
         camera_ = defaultKinectCamera();
-        MRPT_LOG_WARN_STREAM(
-            "No [camera] configured for TUM folder '"
-            << folder << "': using the default Kinect intrinsics " << camera_.toString()
-            << ". Pass a preset (config/tum_fr1.ini, tum_fr2.ini, tum_fr3.ini, 7scenes.ini).");
+        MRPT_LOG_WARN_STREAM("No [camera] configured for TUM folder '"
+                             << folder << "': using the default Kinect intrinsics "
+                             << camera_.toString()
+                             << ". Pass a preset (config/tum_fr1.ini, tum_fr2.ini, tum_fr3.ini, "
+                                "7scenes.ini, bonn.ini).");
     }
 }
 

@@ -7,6 +7,7 @@
 namespace smap::pipeline::detail
 {
 /// INI text of config/<file> as it was at build time, for the files listed in SMAP_PRESET_FILES
-/// (libs/pipeline/CMakeLists.txt: tum_fr1, tum_fr2, tum_fr3, 7scenes); empty for any other name.
+/// (libs/pipeline/CMakeLists.txt: tum_fr1, tum_fr2, tum_fr3, 7scenes, bonn); empty for any other
+/// name.
 std::string_view embeddedPresetText(std::string_view file);
 }  // namespace smap::pipeline::detail

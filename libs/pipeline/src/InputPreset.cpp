@@ -24,13 +24,14 @@ struct NameRule
     const char* file;
     const char* dataset;
 };
-constexpr std::array<NameRule, 6> kNameRules{{
+constexpr std::array<NameRule, 7> kNameRules{{
     {"freiburg1", "tum_fr1.ini", "TUM RGB-D freiburg1"},
     {"freiburg2", "tum_fr2.ini", "TUM RGB-D freiburg2"},
     {"freiburg3", "tum_fr3.ini", "TUM RGB-D freiburg3"},
     {"7scenes", "7scenes.ini", "Microsoft 7-Scenes"},
     {"7-scenes", "7scenes.ini", "Microsoft 7-Scenes"},
     {"7_scenes", "7scenes.ini", "Microsoft 7-Scenes"},
+    {"rgbd_bonn", "bonn.ini", "Bonn RGB-D Dynamic"},
 }};
 
 std::optional<InputPreset> ownCameraFile(const fs::path& folder)
