@@ -31,7 +31,7 @@ io::FrameSourceParameters parametersFor(const std::string& folder)
 std::string folderWith(const std::string& parent, const std::string& name, const std::string& file,
                        const std::string& text)
 {
-    const std::string folder = parent + "/" + name;
+    std::string folder = parent + "/" + name;
     fs::create_directories(folder);
     std::ofstream(folder + "/" + file) << text;
     return folder;
