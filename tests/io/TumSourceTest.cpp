@@ -198,11 +198,12 @@ TEST(TumSource, TooLittleDepthIsNotJudged)
     EXPECT_TRUE(io::implausibleDepthScale(d, 5000.0).has_value());
 }
 
-TEST(TumSource, WarnsOnceNamingTheDepthImageWhenTheUnitLooksWrong)
+namespace
 {
-    test::TempDir dir;
-    test::writeTumFolder(dir.str(), 3, 0.0, false);  // raw 5000-8000: 5-8 m in millimetres
-    io::TumSource src(dir.str(), params(250.0));     // read 4x too far: 20-32 m
+/// Reads every frame of `folder` at `depthFactor`; returns the warnings logged meanwhile.
+std::vector<std::string> warningsReading(const std::string& folder, double depthFactor)
+{
+    io::TumSource src(folder, params(depthFactor));
     src.logging_enable_console_output = false;
     std::vector<std::string> warnings;
     src.logRegisterCallback(
@@ -215,23 +216,18 @@ TEST(TumSource, WarnsOnceNamingTheDepthImageWhenTheUnitLooksWrong)
     while (src.next())
     {
     }
+    return warnings;
+}
+}  // namespace
+
+TEST(TumSource, WarnsOnceNamingTheDepthImageWhenTheUnitLooksWrong)
+{
+    test::TempDir dir;
+    test::writeTumFolder(dir.str(), 3, 0.0, false);           // raw 5000-8000: 5-8 m in millimetres
+    const auto warnings = warningsReading(dir.str(), 250.0);  // read 4x too far: 20-32 m
     ASSERT_EQ(warnings.size(), 1u);
     EXPECT_NE(warnings[0].find(dir.str() + "/depth/f0.png"), std::string::npos) << warnings[0];
     EXPECT_NE(warnings[0].find("depth_factor = 250"), std::string::npos) << warnings[0];
     EXPECT_NE(warnings[0].find("check [tum] depth_factor"), std::string::npos) << warnings[0];
-
-    io::TumSource right(dir.str(), params(1000.0));
-    right.logging_enable_console_output = false;
-    warnings.clear();
-    right.logRegisterCallback(
-        [&](std::string_view msg, mrpt::system::VerbosityLevel level, std::string_view,
-            mrpt::Clock::time_point)
-        {
-            if (level == mrpt::system::LVL_WARN)
-                warnings.emplace_back(msg);
-        });
-    while (right.next())
-    {
-    }
-    EXPECT_TRUE(warnings.empty());
+    EXPECT_TRUE(warningsReading(dir.str(), 1000.0).empty());
 }
