@@ -13,7 +13,10 @@ Open3D (Debian python3-open3d) for image reading only:
                      projected into both colour images, should have the same grey level. Prints
                      the mean absolute difference (grey levels, clipped at 30; lower is better).
                      Comparing the ground truth and an estimate under one model says which of
-                     the two the colour images support.
+                     the two the colour images support. With --fit, the colour model (focal
+                     lengths, centre, offset and radial distortion k1, k2) is fitted to the
+                     trajectory instead, starting from --colour: the lowest difference any such
+                     camera gives that trajectory.
   register DATA OUT  Writes a copy of DATA (colour images linked, lists copied) whose depth
                      images are re-projected into the colour camera (nearest depth wins).
 
@@ -24,6 +27,7 @@ is p + offset in the colour camera frame (no rotation). Depth factor --depth-fac
 Usage: bench/rgbd_calibration.py edges ../shared/data/7scenes-redkitchen
        bench/rgbd_calibration.py photo DATA DATA/groundtruth.txt --colour 526,529,320,238 \
            --offset=-0.024,0.002
+       bench/rgbd_calibration.py photo DATA DATA/groundtruth.txt --fit --rounds 6
 """
 import argparse
 import os
@@ -99,12 +103,14 @@ def back_project(u, v, z, depth_model):
     return np.stack([(u - cx) * z / fx, (v - cy) * z / fy, z], -1)
 
 
-def project(points, colour, offset):
+def project(points, colour, offset, radial=(0.0, 0.0)):
+    """Pixel of depth-frame points in the colour camera; radial = (k1, k2) distortion."""
     fx, fy, cx, cy = colour
-    x = points[:, 0] + offset[0]
-    y = points[:, 1] + offset[1]
-    z = points[:, 2]
-    return x / z * fx + cx, y / z * fy + cy
+    x = (points[:, 0] + offset[0]) / points[:, 2]
+    y = (points[:, 1] + offset[1]) / points[:, 2]
+    r2 = x * x + y * y
+    d = 1.0 + radial[0] * r2 + radial[1] * r2 * r2
+    return x * d * fx + cx, y * d * fy + cy
 
 
 def coordinate_search(cost, start, steps, rounds, label):
@@ -193,36 +199,57 @@ def bilinear(img, u, v):
     return value, inside
 
 
-def cmd_photo(args, depth_model, colour, offset):
+def photo_pairs(args, poses):
+    """(T_ci_cj, depth points of frame j, grey i, grey j) for every pair with both poses."""
     frames = frame_list(args.data)
-    poses = pose_matrices(args.trajectory)
     grid_u, grid_v = np.meshgrid(np.arange(W), np.arange(H))
-    residuals = []
-    pairs = 0
+    pairs = []
     for i in range(0, len(frames) - args.step, args.every):
         j = i + args.step
         key_i, key_j = round(frames[i][2] * 1000), round(frames[j][2] * 1000)
         if key_i not in poses or key_j not in poses:
             continue
-        # The trajectory is the colour camera's; depth points go depth -> colour (offset) first.
         z = read_depth(frames[j][1], args.depth_factor)
         valid = (z > args.min_depth) & (z < args.max_depth)
-        points = back_project(grid_u[valid], grid_v[valid], z[valid], depth_model)[::3]
+        points = back_project(grid_u[valid], grid_v[valid], z[valid], args.depth_model)[::3]
+        pairs.append((np.linalg.inv(poses[key_i]) @ poses[key_j], points,
+                      read_grey(frames[i][0], 2), read_grey(frames[j][0], 2)))
+    return pairs
+
+
+def photo_difference(pairs, model):
+    """Mean clipped grey difference; model = fx, fy, cx, cy, tx, ty, k1, k2."""
+    colour, offset, radial = model[:4], model[4:6], model[6:8]
+    residuals = []
+    for T_ci_cj, points, grey_i, grey_j in pairs:
+        # The trajectory is the colour camera's; depth points go depth -> colour (offset) first.
         points_cj = points + np.array([offset[0], offset[1], 0.0])
-        T_ci_cj = np.linalg.inv(poses[key_i]) @ poses[key_j]
         points_ci = points_cj @ T_ci_cj[:3, :3].T + T_ci_cj[:3, 3]
         zero = np.zeros(2)
-        u_j, v_j = project(points_cj, colour, zero)
-        u_i, v_i = project(points_ci, colour, zero)
-        grey_i, in_i = bilinear(read_grey(frames[i][0], 2), u_i, v_i)
-        grey_j, in_j = bilinear(read_grey(frames[j][0], 2), u_j, v_j)
+        u_j, v_j = project(points_cj, colour, zero, radial)
+        u_i, v_i = project(points_ci, colour, zero, radial)
+        value_i, in_i = bilinear(grey_i, u_i, v_i)
+        value_j, in_j = bilinear(grey_j, u_j, v_j)
         ok = in_i & in_j & (points_ci[:, 2] > 0)
-        residuals.append(np.minimum(np.abs(grey_i - grey_j)[ok], 30))
-        pairs += 1
-    if not residuals:
+        residuals.append(np.minimum(np.abs(value_i - value_j)[ok], 30))
+    return np.mean(np.concatenate(residuals))
+
+
+def cmd_photo(args, depth_model, colour, offset):
+    args.depth_model = depth_model
+    pairs = photo_pairs(args, pose_matrices(args.trajectory))
+    if not pairs:
         sys.exit("%s: no frame pairs with both poses" % args.trajectory)
+    model = np.concatenate([colour, offset, [0.0, 0.0]])
     print("%s: %d frame pairs %d apart, mean |grey difference| %.3f (clipped at 30)"
-          % (args.trajectory, pairs, args.step, np.mean(np.concatenate(residuals))))
+          % (args.trajectory, len(pairs), args.step, photo_difference(pairs, model)), flush=True)
+    if args.fit:
+        best, value = coordinate_search(lambda p: photo_difference(pairs, p), model,
+                                        [10, 10, 5, 5, 0.01, 0.01, 0.05, 0.1], args.rounds,
+                                        "photo fit")
+        print("%s: best colour model --colour %.1f,%.1f,%.1f,%.1f --offset=%.4f,%.4f "
+              "k1 %.3f k2 %.3f: mean |grey difference| %.3f"
+              % (args.trajectory, *best, value))
 
 
 def cmd_register(args, depth_model, colour, offset):
@@ -278,7 +305,9 @@ def main():
     parser.add_argument("--depth-factor", type=float, default=1000.0)
     parser.add_argument("--every", type=int, default=25, help="use every Nth frame")
     parser.add_argument("--step", type=int, default=10, help="photo: frames between the pair")
-    parser.add_argument("--rounds", type=int, default=12, help="edges: search rounds")
+    parser.add_argument("--rounds", type=int, default=12, help="edges, photo --fit: search rounds")
+    parser.add_argument("--fit", action="store_true",
+                        help="photo: fit the colour model (with k1, k2) to the trajectory")
     parser.add_argument("--jump", type=float, default=0.1, help="edges: depth jump (m)")
     parser.add_argument("--min-depth", type=float, default=0.3)
     parser.add_argument("--max-depth", type=float, default=4.0)
