@@ -1,11 +1,14 @@
 #include "smap/features/OrbExtractor.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
 #include <random>
+
+#include "smap/core/Rounding.h"
 
 namespace smap::features
 {
@@ -44,27 +47,27 @@ OrbExtractor::OrbExtractor(const OrbParameters& params)
 
     std::mt19937 rng(0x5eed0b);
     const double sigma = (2 * kPatchRadius + 1) / 5.0;
-    auto samplePoint = [&](int8_t& x, int8_t& y)
+    auto samplePoint = [&]()
     {
         for (;;)
         {
             const int px = static_cast<int>(std::lround(gaussian(rng, sigma)));
             const int py = static_cast<int>(std::lround(gaussian(rng, sigma)));
             if (px * px + py * py <= kSampleRadius * kSampleRadius)
-            {
-                x = static_cast<int8_t>(px);
-                y = static_cast<int8_t>(py);
-                return;
-            }
+                return cv::Point2f(static_cast<float>(px), static_cast<float>(py));
         }
     };
-    while (pattern_.size() < kDescriptorBits)
+    // Pair i's points at 2i and 2i + 1; a pair of one point twice is drawn again.
+    for (size_t pair = 0; pair < kSamplePoints / 2;)
     {
-        SamplePair s{};
-        samplePoint(s.x1, s.y1);
-        samplePoint(s.x2, s.y2);
-        if (s.x1 != s.x2 || s.y1 != s.y2)
-            pattern_.push_back(s);
+        const cv::Point2f first = samplePoint(), second = samplePoint();
+        if (first == second)
+            continue;
+        patternX_[2 * pair] = first.x;
+        patternY_[2 * pair] = first.y;
+        patternX_[2 * pair + 1] = second.x;
+        patternY_[2 * pair + 1] = second.y;
+        ++pair;
     }
     for (int v = 0; v <= kPatchRadius; ++v)
         circleHalfWidth_[static_cast<size_t>(v)] =
@@ -194,20 +197,21 @@ void OrbExtractor::describe(const cv::Mat& blurred, const cv::KeyPoint& kp_level
     const int cv0 = static_cast<int>(std::lround(kp_level.pt.y));
     const uint8_t* centre = blurred.ptr<uint8_t>(cv0) + cu;
     const auto step = static_cast<int>(blurred.step1());
-    auto sample = [&](int8_t x, int8_t y)
+    // Every sample point rotated by the keypoint's angle, as an offset from the centre pixel.
+    std::array<int, kSamplePoints> offset{};
+    for (size_t k = 0; k < kSamplePoints; ++k)
     {
-        const int rx = static_cast<int>(std::lround(x * ca - y * sa));
-        const int ry = static_cast<int>(std::lround(x * sa + y * ca));
-        return centre[ry * step + rx];
-    };
-    for (int byte = 0; byte < kDescriptorBits / 8; ++byte)
+        const int rx = core::roundHalfAway(patternX_[k] * ca - patternY_[k] * sa);
+        const int ry = core::roundHalfAway(patternX_[k] * sa + patternY_[k] * ca);
+        offset[k] = ry * step + rx;
+    }
+    for (size_t byte = 0; byte < kDescriptorBits / 8; ++byte)
     {
         uint8_t value = 0;
-        for (int bit = 0; bit < 8; ++bit)
+        for (size_t bit = 0; bit < 8; ++bit)
         {
-            const SamplePair& s =
-                pattern_[static_cast<size_t>(byte) * 8 + static_cast<size_t>(bit)];
-            if (sample(s.x1, s.y1) < sample(s.x2, s.y2))
+            const size_t pair = 2 * (byte * 8 + bit);
+            if (centre[offset[pair]] < centre[offset[pair + 1]])
                 value = static_cast<uint8_t>(value | (1U << bit));
         }
         out[byte] = value;

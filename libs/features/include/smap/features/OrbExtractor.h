@@ -30,11 +30,6 @@ public:
     static constexpr int kBorder = 16;
 
 private:
-    struct SamplePair
-    {
-        int8_t x1, y1, x2, y2;
-    };
-
     void detectLevel(const cv::Mat& level, int wanted, const cv::Mat& fill_last, float scale,
                      cv::Size image_size, std::vector<cv::KeyPoint>& out) const;
     float orientation(const cv::Mat& level, cv::Point2f p) const;
@@ -43,7 +38,10 @@ private:
     OrbParameters params_;
     ScalePyramid pyramid_;
     std::vector<int> featuresPerLevel_;
-    std::vector<SamplePair> pattern_;        // 256 point pairs within the patch disk
+    // 256 point pairs within the patch disk, pair i's points at 2i and 2i + 1
+    static constexpr size_t kSamplePoints = 512;
+    std::array<float, kSamplePoints> patternX_{};
+    std::array<float, kSamplePoints> patternY_{};
     std::array<int, 16> circleHalfWidth_{};  // orientation disk, radius 15
 };
 }  // namespace smap::features
