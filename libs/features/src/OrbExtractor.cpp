@@ -57,6 +57,7 @@ OrbExtractor::OrbExtractor(const OrbParameters& params)
                 return cv::Point2f(static_cast<float>(px), static_cast<float>(py));
         }
     };
+    static_assert(kSamplePoints == 2 * kDescriptorBits, "one pair of points per bit");
     // Pair i's points at 2i and 2i + 1; a pair of one point twice is drawn again.
     for (size_t pair = 0; pair < kSamplePoints / 2;)
     {
