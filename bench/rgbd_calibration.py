@@ -199,7 +199,7 @@ def bilinear(img, u, v):
     return value, inside
 
 
-def photo_pairs(args, poses):
+def photo_pairs(args, poses, depth_model):
     """(T_ci_cj, depth points of frame j, grey i, grey j) for every pair with both poses."""
     frames = frame_list(args.data)
     grid_u, grid_v = np.meshgrid(np.arange(W), np.arange(H))
@@ -211,7 +211,7 @@ def photo_pairs(args, poses):
             continue
         z = read_depth(frames[j][1], args.depth_factor)
         valid = (z > args.min_depth) & (z < args.max_depth)
-        points = back_project(grid_u[valid], grid_v[valid], z[valid], args.depth_model)[::3]
+        points = back_project(grid_u[valid], grid_v[valid], z[valid], depth_model)[::3]
         pairs.append((np.linalg.inv(poses[key_i]) @ poses[key_j], points,
                       read_grey(frames[i][0], 2), read_grey(frames[j][0], 2)))
     return pairs
@@ -236,8 +236,7 @@ def photo_difference(pairs, model):
 
 
 def cmd_photo(args, depth_model, colour, offset):
-    args.depth_model = depth_model
-    pairs = photo_pairs(args, pose_matrices(args.trajectory))
+    pairs = photo_pairs(args, pose_matrices(args.trajectory), depth_model)
     if not pairs:
         sys.exit("%s: no frame pairs with both poses" % args.trajectory)
     model = np.concatenate([colour, offset, [0.0, 0.0]])
