@@ -15,8 +15,8 @@ cache="${SMAP_EVAL_CACHE:-/tmp/smap-eval-cache}"
 every="${SMAP_SEG_EVERY:-5}"
 presets="${SMAP_SEG_PRESETS:-walking_xyz walking_halfsphere sitting_xyz static_xyz}"
 shared="$root/../shared"
-model="$shared/models/espnetv2-voc/espnetv2_s2.0_voc_320x240.onnx"
-[ -f "$model" ] || { echo "eval_segmentation: $model not found (../shared beside the checkout)" >&2; exit 2; }
+model="$root/models/espnetv2-voc/espnetv2_s2.0_voc_320x240.onnx"
+[ -f "$model" ] || { echo "eval_segmentation: $model not found (the shipped model)" >&2; exit 2; }
 mkdir -p "$cache"
 
 # segment NAME INPUT MODE CONFIG... -> OUTDIR (cnn: CRF off; crf: on)

@@ -10,6 +10,7 @@
 
 #include "SyntheticRgbd.h"
 #include "TestData.h"
+#include "smap/core/DataDirectory.h"
 #include "smap/pipeline/EvalApp.h"
 #include "smap/pipeline/SegmentApp.h"
 
@@ -107,13 +108,13 @@ TEST(SegmentApp, BadInputIsAClearError)
 {
     test::TempDir dir;
     test::writeTumFolder(dir / "seq", 2, 0.0, false);
-    // The default backend needs a model.
-    EXPECT_NE(test::inputErrorOf(
-                  [&] {
-                      runSegment({dir / "seq", dir / "out"});
-                  })
-                  .find("[onnx] model"),
-              std::string::npos);
+    // The default backend uses the shipped model; where the data folder lacks it (a broken
+    // installation), that is the error.
+    ::setenv(core::kDataDirectoryVariable, (dir / "empty-data-folder").c_str(), 1);
+    const std::string noModel = test::inputErrorOf([&] { runSegment({dir / "seq", dir / "out"}); });
+    ::unsetenv(core::kDataDirectoryVariable);
+    EXPECT_NE(noModel.find("[onnx] model"), std::string::npos) << noModel;
+    EXPECT_NE(noModel.find("empty-data-folder/models/espnetv2-voc/"), std::string::npos) << noModel;
     EXPECT_NE(test::inputErrorOf(
                   [&] {
                       runSegment(

@@ -1,8 +1,10 @@
 #include "smap/pipeline/AppConfiguration.h"
 
+#include <filesystem>
 #include <memory>
 #include <optional>
 
+#include "smap/core/DataDirectory.h"
 #include "smap/core/TrackedConfig.h"
 #include "smap/pipeline/InputPreset.h"
 
@@ -57,5 +59,24 @@ void loadAppConfiguration(const CommandLine& cl,
     for (auto* p : params)
         cfg->load(*p);
     cfg->ensureAllKeysUsed();
+}
+
+std::string shippedModelPath()
+{
+    const std::string dir = core::dataDirectory();
+    const std::string relative = "models/espnetv2-voc/espnetv2_s2.0_voc_320x240.onnx";
+    return dir.empty() ? relative : (std::filesystem::path(dir) / relative).string();
+}
+
+bool useShippedModelIfUnset(segmentation::SegmentationParameters& params)
+{
+    if (params.backend != "onnx" || !params.onnx.model.empty())
+        return true;
+    const std::string model = shippedModelPath();
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(model, ec))
+        return false;
+    params.onnx.model = model;
+    return true;
 }
 }  // namespace smap::pipeline

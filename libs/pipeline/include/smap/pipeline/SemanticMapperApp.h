@@ -33,10 +33,9 @@ public:
     const Result& result() const { return result_; }
 
     static std::string usage();
-    /// The embedded default recording used when no INPUT is given.
+    /// The embedded default recording used when no INPUT is given: the sample in the data
+    /// folder (core::dataDirectory()), or empty when it is not there.
     static std::string defaultInput();
-    /// The segmentation model used when the configuration names none (may not exist).
-    static std::string defaultModel();
     /// Every configuration key with its default and the comment of its section, as an INI
     /// file (docs/config-reference.ini is generated from it).
     static std::string configurationReference();
