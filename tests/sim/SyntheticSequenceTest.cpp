@@ -5,6 +5,7 @@
 #include <cmath>
 #include <opencv2/core.hpp>
 
+#include "TestData.h"
 #include "smap/core/InputError.h"
 #include "smap/sim/SequenceGenerator.h"
 
@@ -147,6 +148,19 @@ TEST(SyntheticSequence, SittingPeopleMoveOnlyInTheirMovingParts)
     const int moving = cv::countNonZero(f.rendered.dynamic);
     EXPECT_GT(moving, 0);                         // torso sway, gestures
     EXPECT_LT(moving, cv::countNonZero(person));  // legs rest on the chair
+}
+
+TEST(SyntheticSequence, PeopleNeedTheCutOutsAndSayWhere)
+{
+    auto o = options("walking_xyz");
+    o.peopleDirectory.clear();
+    EXPECT_NE(test::inputErrorOf([&] { sim::SequenceGenerator g(o); }).find("cut-outs"),
+              std::string::npos);
+    o.peopleDirectory = "/nonexistent/people";
+    EXPECT_NE(test::inputErrorOf([&] { sim::SequenceGenerator g(o); }).find("/nonexistent/people"),
+              std::string::npos);
+    o.preset = "static_xyz";  // nobody in the room: no cut-outs needed
+    EXPECT_NO_THROW(sim::SequenceGenerator g(o));
 }
 
 TEST(SyntheticSequence, DeterministicForASeed)

@@ -5,14 +5,10 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
 #include <limits>
-#include <opencv2/imgcodecs.hpp>
 #include <random>
 
 #include "smap/core/InputError.h"
-
-namespace fs = std::filesystem;
 
 namespace smap::sim
 {
@@ -36,32 +32,6 @@ Eigen::Vector3d CompositedPerson::feetAt(double t) const
     const double x =
         s < 0.5 ? -halfRange + 4.0 * halfRange * s : 3.0 * halfRange - 4.0 * halfRange * s;
     return start + x * direction;
-}
-
-std::vector<cv::Mat> loadPeopleSprites(const std::string& folder)
-{
-    std::vector<fs::path> files;
-    if (fs::is_directory(folder))
-    {
-        for (const auto& e : fs::directory_iterator(folder))
-        {
-            const std::string n = e.path().filename().string();
-            if (n.rfind("person_", 0) == 0 && e.path().extension() == ".png")
-                files.push_back(e.path());
-        }
-    }
-    std::sort(files.begin(), files.end());
-    std::vector<cv::Mat> sprites;
-    for (const auto& f : files)
-    {
-        cv::Mat s = cv::imread(f.string(), cv::IMREAD_UNCHANGED);
-        if (s.type() == CV_8UC4)
-            sprites.push_back(s);
-    }
-    if (sprites.empty())
-        throw core::InputError(
-            mrpt::format("no RGBA person_*.png cut-outs in '%s'", folder.c_str()));
-    return sprites;
 }
 
 PeopleCompositor::PeopleCompositor(const std::vector<cv::Mat>& sprites,
@@ -247,6 +217,8 @@ PeopleCompositor::PeopleCompositor(const std::vector<cv::Mat>& sprites,
         freeSpace_.inside += bestCheck.inside;
         freeSpace_.unseen += bestCheck.unseen;
         people_.push_back(best);
+        // Flat, unfiltered: the compositing of the first published composites.
+        billboards_.emplace_back(best.sprite, BillboardStyle{});
     }
 }
 
@@ -259,21 +231,19 @@ CompositeFrame PeopleCompositor::composite(const core::RgbdFrame& frame,
     out.labels = cv::Mat(frame.colour.size(), CV_8UC1, cv::Scalar(kUnknownLabel));
     out.instances = cv::Mat::zeros(frame.colour.size(), CV_16UC1);
     out.dynamic = cv::Mat::zeros(frame.colour.size(), CV_8UC1);
-    const auto& cam = frame.camera;
-    const Eigen::Matrix3d R = rotation(T_world_cam);
+    BillboardLayers layers{out.colour, out.depth, out.labels, out.instances, out.dynamic};
     const Eigen::Vector3d c = translation(T_world_cam);
 
     // Nearest person first is not needed: the per-pixel depth test resolves their order.
-    for (const auto& p : people_)
+    for (size_t i = 0; i < people_.size(); i++)
     {
+        const CompositedPerson& p = people_[i];
         const Eigen::Vector3d feet = p.feetAt(t);
         Eigen::Vector3d n = c - feet;  // billboard faces the camera, stays vertical
         n -= up_ * up_.dot(n);
         if (n.norm() < 1e-6)
             continue;
         n.normalize();
-        const Eigen::Vector3d w = up_.cross(n).normalized();  // across the sprite
-        const double width = p.height * p.sprite.cols / p.sprite.rows;
         // World pose of the person's root: x forward (towards the camera), z up.
         Eigen::Matrix3d Rp;
         Rp.col(0) = n;
@@ -290,70 +260,13 @@ CompositeFrame PeopleCompositor::composite(const core::RgbdFrame& frame,
         out.objectPoses.emplace_back("person" + std::to_string(p.instanceId),
                                      mrpt::poses::CPose3D(Rm, tv));
 
-        // Image bounding box of the billboard's corners.
-        int u0 = cam.width, v0 = cam.height, u1 = -1, v1 = -1;
-        bool behind = false;
-        for (double a : {-0.5, 0.5})
-        {
-            for (double b : {0.0, 1.0})
-            {
-                const Eigen::Vector3d X =
-                    R.transpose() * (feet + a * width * w + b * p.height * up_ - c);
-                if (X.z() <= 0.05)
-                {
-                    behind = true;
-                    continue;
-                }
-                const Eigen::Vector2d uv = cam.project(X);
-                u0 = std::min(u0, static_cast<int>(std::floor(uv.x())));
-                u1 = std::max(u1, static_cast<int>(std::ceil(uv.x())));
-                v0 = std::min(v0, static_cast<int>(std::floor(uv.y())));
-                v1 = std::max(v1, static_cast<int>(std::ceil(uv.y())));
-            }
-        }
-        if (behind)
-            continue;  // skip people partly behind the camera plane
-        u0 = std::max(u0, 0);
-        v0 = std::max(v0, 0);
-        u1 = std::min(u1, cam.width - 1);
-        v1 = std::min(v1, cam.height - 1);
-        const Eigen::Vector3d nCam = R.transpose() * n;
-        const double planeD = nCam.dot(R.transpose() * (feet - c));
-        for (int v = v0; v <= v1; v++)
-        {
-            for (int u = u0; u <= u1; u++)
-            {
-                // Ray through the pixel centre with z = 1: depth of the hit is s.
-                const Eigen::Vector3d d((u - cam.cx) / cam.fx, (v - cam.cy) / cam.fy, 1.0);
-                const double denom = nCam.dot(d);
-                if (std::abs(denom) < 1e-9)
-                    continue;
-                const double s = planeD / denom;
-                if (s <= 0.05)
-                    continue;
-                const Eigen::Vector3d Xw = R * (s * d) + c - feet;
-                const double a = w.dot(Xw) / width + 0.5;
-                const double b = 1.0 - up_.dot(Xw) / p.height;
-                if (a < 0 || a >= 1 || b < 0 || b >= 1)
-                    continue;
-                const auto& px = p.sprite.at<cv::Vec4b>(static_cast<int>(b * p.sprite.rows),
-                                                        static_cast<int>(a * p.sprite.cols));
-                if (px[3] < 128)
-                    continue;
-                float& z = out.depth.at<float>(v, u);
-                const float zs = static_cast<float>(s);
-                // Real surfaces in front hide the person; holes (0) do not.
-                if (z > 0.0f && z < zs && out.instances.at<uint16_t>(v, u) == 0)
-                    continue;
-                if (out.instances.at<uint16_t>(v, u) != 0 && z < zs)
-                    continue;  // another person nearer
-                z = zs;
-                out.colour.at<cv::Vec3b>(v, u) = {px[0], px[1], px[2]};
-                out.labels.at<uint8_t>(v, u) = 15;
-                out.instances.at<uint16_t>(v, u) = p.instanceId;
-                out.dynamic.at<uint8_t>(v, u) = 255;
-            }
-        }
+        BillboardPose pose;
+        pose.feet = feet;
+        pose.normal = n;
+        pose.up = up_;
+        pose.height = p.height;
+        // Composited people always move: every pixel of theirs is dynamic.
+        billboards_[i].draw(pose, nullptr, frame.camera, T_world_cam, 15, p.instanceId, layers);
     }
     return out;
 }

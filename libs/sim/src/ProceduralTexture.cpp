@@ -174,20 +174,6 @@ cv::Mat makeTexture(TextureKind kind, int size, uint32_t seed)
             addStrokes(img, rng, size / 10, size / 8);
             return img;
         }
-        case TextureKind::Skin:
-        {
-            cv::Mat img = tint(valueNoise(size, rng, 4, 4), {90, 120, 170}, {150, 185, 225});
-            // Eyes and mouth on the front half (u < 0.5): give the face trackable corners.
-            cv::circle(img, {size / 8, size / 3}, size / 20, cv::Scalar(40, 30, 30), cv::FILLED,
-                       cv::LINE_AA);
-            cv::circle(img, {size * 3 / 8, size / 3}, size / 20, cv::Scalar(40, 30, 30), cv::FILLED,
-                       cv::LINE_AA);
-            cv::ellipse(img, {size / 4, size * 2 / 3}, {size / 10, size / 30}, 0, 0, 180,
-                        cv::Scalar(60, 60, 150), 3, cv::LINE_AA);
-            cv::rectangle(img, {0, 0}, {size - 1, size / 6}, cv::Scalar(randomColour(rng, 10, 80)),
-                          cv::FILLED);
-            return img;
-        }
     }
     return {};
 }

@@ -2,7 +2,9 @@
 
 #include <mrpt/core/format.h>
 
+#include "smap/core/DataDirectory.h"
 #include "smap/core/InputError.h"
+#include "smap/sim/PersonSprite.h"
 
 namespace smap::sim
 {
@@ -38,7 +40,7 @@ SequencePreset findPreset(const std::string& name)
         mrpt::format("unknown preset '%s' (valid: %s)", name.c_str(), names.c_str()));
 }
 
-GeneratorOptions::GeneratorOptions()
+GeneratorOptions::GeneratorOptions() : peopleDirectory(core::findDataFile("people"))
 {
     camera.width = 640;
     camera.height = 480;
@@ -52,8 +54,18 @@ SequenceGenerator::SequenceGenerator(const GeneratorOptions& options)
 {
     if (!(options.fps > 0.0))
         throw core::InputError(mrpt::format("fps = %g must be > 0", options.fps));
+    std::vector<PersonSprite> sprites;
+    if (preset_.walking + preset_.sitting > 0)
+    {
+        if (options.peopleDirectory.empty())
+            throw core::InputError(mrpt::format(
+                "preset '%s' has people, but the person cut-outs were not found (the data "
+                "folder's people/, data/people in the source tree)",
+                preset_.name.c_str()));
+        sprites = loadPersonSprites(options.peopleDirectory);
+    }
     scene_ = std::make_unique<SyntheticScene>(
-        SyntheticScene::makeOffice(options.seed, preset_.walking, preset_.sitting));
+        SyntheticScene::makeOffice(options.seed, preset_.walking, preset_.sitting, sprites));
     motion_ = std::make_unique<CameraMotion>(preset_.motion, scene_->cameraBase(),
                                              scene_->cameraTarget(), options.seed);
     renderer_ = std::make_unique<SyntheticRenderer>(*scene_, options.camera);

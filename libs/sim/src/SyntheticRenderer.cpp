@@ -6,7 +6,6 @@
 #include <mrpt/opengl/CSetOfTexturedTriangles.h>
 #include <mrpt/opengl/CSetOfTriangles.h>
 
-#include <map>
 #include <stdexcept>
 
 namespace smap::sim
@@ -44,30 +43,12 @@ std::vector<TTriangle> triangles(const SceneObject& o, const mrpt::img::TColor& 
     return out;
 }
 
-/// Label colour: R = class, G = instance, B = part index + 1 for people (0 otherwise).
-mrpt::img::TColor labelColour(const SceneObject& o, int part)
+/// Label colour: R = class, G = instance (the static objects; people are drawn afterwards).
+mrpt::img::TColor labelColour(const SceneObject& o)
 {
-    return {o.classId, static_cast<uint8_t>(o.instanceId & 0xFF), static_cast<uint8_t>(part + 1),
-            255};
+    return {o.classId, static_cast<uint8_t>(o.instanceId & 0xFF), 0, 255};
 }
 
-double maxCornerMotion(const SceneObject& o, const mrpt::poses::CPose3D& a,
-                       const mrpt::poses::CPose3D& b)
-{
-    double m = 0.0;
-    for (const auto& q : o.quads)
-    {
-        for (const auto& c : q.corners)
-        {
-            double ax, ay, az, bx, by, bz;
-            a.composePoint(c.x(), c.y(), c.z(), ax, ay, az);
-            b.composePoint(c.x(), c.y(), c.z(), bx, by, bz);
-            m = std::max(m, std::sqrt((ax - bx) * (ax - bx) + (ay - by) * (ay - by) +
-                                      (az - bz) * (az - bz)));
-        }
-    }
-    return m;
-}
 }  // namespace
 
 struct SyntheticRenderer::Impl
@@ -76,11 +57,7 @@ struct SyntheticRenderer::Impl
     core::PinholeCamera camera;
     double clipFar;
     mrpt::opengl::COpenGLScene colourScene, labelScene;
-    // People parts in both scenes, in scene.people() order then parts() order.
-    std::vector<mrpt::opengl::CRenderizable::Ptr> colourParts, labelParts;
     std::unique_ptr<mrpt::opengl::CFBORender> fbo;
-    /// Index (into colourParts) of the first part of each person, by instance id.
-    std::map<uint16_t, size_t> firstPart;
 
     Impl(const SyntheticScene& s, const core::PinholeCamera& cam, double clipNear, double far)
         : scene(s), camera(cam), clipFar(far)
@@ -90,8 +67,7 @@ struct SyntheticRenderer::Impl
         std::vector<mrpt::img::CImage> textures;
         for (const auto& t : s.textures())
             textures.emplace_back(t, mrpt::img::DEEP_COPY);
-        auto addObject = [&](const SceneObject& o, int part)
-            -> std::pair<mrpt::opengl::CRenderizable::Ptr, mrpt::opengl::CRenderizable::Ptr>
+        auto addObject = [&](const SceneObject& o)
         {
             auto textured = mrpt::opengl::CSetOfTexturedTriangles::Create();
             for (const auto& tr : triangles(o, {255, 255, 255, 255}))
@@ -103,24 +79,13 @@ struct SyntheticRenderer::Impl
             colourScene.insert(textured);
             auto flat = mrpt::opengl::CSetOfTriangles::Create();
             flat->enableLight(false);
-            for (const auto& tr : triangles(o, labelColour(o, part)))
+            for (const auto& tr : triangles(o, labelColour(o)))
                 flat->insertTriangle(tr);
             flat->setPose(o.T_world_object);
             labelScene.insert(flat);
-            return {textured, flat};
         };
         for (const auto& o : s.staticObjects())
-            addObject(o, -1);
-        for (const auto& p : s.people())
-        {
-            firstPart[p.instanceId()] = colourParts.size();
-            for (size_t i = 0; i < p.parts().size(); i++)
-            {
-                auto [c, l] = addObject(p.parts()[i], static_cast<int>(i));
-                colourParts.push_back(c);
-                labelParts.push_back(l);
-            }
-        }
+            addObject(o);
         for (auto* sc : {&colourScene, &labelScene})
         {
             sc->getViewport()->setViewportClipDistances(static_cast<float>(clipNear),
@@ -152,21 +117,7 @@ RenderedFrame SyntheticRenderer::render(double t, const mrpt::poses::CPose3D& T_
                                         double motionDt)
 {
     auto& I = *impl_;
-    std::vector<bool> partMoving;
-    size_t k = 0;
-    for (const auto& p : I.scene.people())
-    {
-        const auto now = p.partPoses(t);
-        const auto before = p.partPoses(t - motionDt);
-        for (size_t i = 0; i < now.size(); i++, k++)
-        {
-            I.colourParts[k]->setPose(now[i]);
-            I.labelParts[k]->setPose(now[i]);
-            partMoving.push_back(maxCornerMotion(p.parts()[i], now[i], before[i]) > 1e-3);
-        }
-    }
     I.fbo->getCamera(I.colourScene).setPose(T_world_cam);
-
     RenderedFrame f;
     mrpt::img::CImage rgb, labelRgb;
     mrpt::math::CMatrixFloat depth;
@@ -183,7 +134,7 @@ RenderedFrame SyntheticRenderer::render(double t, const mrpt::poses::CPose3D& T_
                 (z > 0.0f && z < 0.999f * static_cast<float>(I.clipFar)) ? z : 0.0f;
         }
     }
-    const cv::Mat& lab = labelRgb.asCvMatRef();  // BGR: B = part + 1, G = instance, R = class
+    const cv::Mat& lab = labelRgb.asCvMatRef();  // BGR: G = instance, R = class
     f.labels.create(lab.size(), CV_8UC1);
     f.instances.create(lab.size(), CV_16UC1);
     f.dynamic = cv::Mat::zeros(lab.size(), CV_8UC1);
@@ -194,13 +145,18 @@ RenderedFrame SyntheticRenderer::render(double t, const mrpt::poses::CPose3D& T_
             const cv::Vec3b c = lab.at<cv::Vec3b>(v, u);
             f.labels.at<uint8_t>(v, u) = c[2];
             f.instances.at<uint16_t>(v, u) = c[1];
-            if (c[0] > 0)
-            {
-                const auto it = I.firstPart.find(c[1]);
-                if (it != I.firstPart.end() && partMoving.at(it->second + c[0] - 1))
-                    f.dynamic.at<uint8_t>(v, u) = 255;
-            }
         }
+    }
+
+    // People over the rendered room, each tested against its depth and against each other.
+    BillboardLayers layers{f.colour, f.depth, f.labels, f.instances, f.dynamic};
+    for (const auto& p : I.scene.people())
+    {
+        const BillboardPose now = p.billboard(t);
+        const BillboardPose before = p.billboard(t - motionDt);
+        I.scene.personSprites()
+            .at(p.spec().sprite)
+            .draw(now, &before, I.camera, T_world_cam, voc::kPerson, p.instanceId(), layers);
     }
     return f;
 }

@@ -2,12 +2,20 @@
 
 #include <mrpt/core/format.h>
 
+#include <random>
 #include <stdexcept>
 
+#include "smap/core/InputError.h"
 #include "smap/sim/ProceduralTexture.h"
 
 namespace smap::sim
 {
+namespace
+{
+/// Metres a person's silhouette bulges towards the camera at its widest rows.
+constexpr double kPersonRelief = 0.12;
+}  // namespace
+
 int SyntheticScene::addTexture(const cv::Mat& t)
 {
     textures_.push_back(t);
@@ -26,12 +34,21 @@ SceneObject& SyntheticScene::addObject(const std::string& name, uint8_t classId,
     return objects_.back();
 }
 
-SyntheticScene SyntheticScene::makeOffice(uint32_t seed, int walking, int sitting)
+SyntheticScene SyntheticScene::makeOffice(uint32_t seed, int walking, int sitting,
+                                          const std::vector<PersonSprite>& sprites)
 {
     if (walking < 0 || walking > 3 || sitting < 0 || sitting > 2)
         throw std::invalid_argument(
             mrpt::format("makeOffice: %d walking (0-3), %d sitting (0-2)", walking, sitting));
     SyntheticScene s;
+    s.addRoomAndFurniture(seed);
+    s.addPeople(seed, walking, sitting, sprites);
+    return s;
+}
+
+void SyntheticScene::addRoomAndFurniture(uint32_t seed)
+{
+    SyntheticScene& s = *this;
     const int ts = 512;
     uint32_t k = seed * 1000u;
     const int wallTex = s.addTexture(makeTexture(TextureKind::Noise, ts, k++));
@@ -102,43 +119,60 @@ SyntheticScene SyntheticScene::makeOffice(uint32_t seed, int walking, int sittin
     auto& books = s.addObject("books", voc::kBackground, posterTex);
     for (int shelf = 0; shelf < 4; shelf++)
         addBox(books, {5.6f, 2.2f, 0.3f + 0.45f * shelf}, {0.06f, 1.0f, 0.3f}, cell, k++);
+}
 
-    // People: instance ids after the furniture.
+void SyntheticScene::addPeople(uint32_t seed, int walking, int sitting,
+                               const std::vector<PersonSprite>& sprites)
+{
+    // Indices of the sprites of each posture; each person gets its own billboard.
+    std::vector<size_t> standing, seated;
+    for (size_t i = 0; i < sprites.size(); i++)
+        (sprites[i].posture == PersonSprite::Posture::Sitting ? seated : standing).push_back(i);
+    if ((walking > 0 && standing.empty()) || (sitting > 0 && seated.empty()))
+        throw core::InputError(mrpt::format(
+            "the scene has %d walking and %d sitting people, but the person cut-outs hold %zu "
+            "standing and %zu sitting sprites",
+            walking, sitting, standing.size(), seated.size()));
+
+    // Instance ids after the furniture. Walkers on paths through the free floor; sitters at
+    // the desk and on the side chair. All face the cameras' side of the room.
     const std::vector<std::vector<Eigen::Vector2f>> paths = {
         {{1.0f, 1.9f}, {5.0f, 1.9f}, {5.0f, 2.45f}, {1.0f, 2.45f}},
         {{4.8f, 1.6f}, {1.6f, 2.4f}},
         {{1.8f, 4.4f}, {4.2f, 4.4f}, {4.0f, 1.8f}},
     };
     const float speeds[3] = {1.1f, 0.7f, 1.4f};
+    const Eigen::Vector2f seats[2] = {{2.85f, 3.95f}, {4.65f, 3.3f}};
+    std::mt19937 rng(seed * 7717u + 13u);
     for (int i = 0; i < walking + sitting; i++)
     {
         PersonSpec spec;
-        if (i < walking)
+        spec.viewer = cameraBase().head<2>().cast<float>();
+        const bool walks = i < walking;
+        const auto& pool = walks ? standing : seated;
+        const PersonSprite& sprite = sprites[pool[(seed + static_cast<uint32_t>(i)) % pool.size()]];
+        std::uniform_real_distribution<float> height(static_cast<float>(sprite.minHeight),
+                                                     static_cast<float>(sprite.maxHeight));
+        spec.height = height(rng);
+        if (walks)
         {
             spec.kind = PersonSpec::Kind::Walking;
             spec.path = paths[static_cast<size_t>(i)];
             spec.speed = speeds[i];
             spec.phase = 1.7f * static_cast<float>(i);
-            spec.height = 1.65f + 0.1f * static_cast<float>(i % 3);
         }
         else
         {
             spec.kind = PersonSpec::Kind::Sitting;
-            const bool atDesk = i - walking == 0;
-            // At the desk, and on the side chair; both face the camera side of the room.
-            spec.seat = atDesk ? Eigen::Vector2f(2.85f, 3.95f) : Eigen::Vector2f(4.65f, 3.3f);
-            spec.facing = static_cast<float>(-M_PI / 2);
+            spec.seat = seats[i - walking];
             spec.seatHeight = 0.47f;
             spec.phase = 0.9f * static_cast<float>(i);
-            spec.height = 1.7f;
         }
-        const int shirt = s.addTexture(makeTexture(TextureKind::Fabric, 256, k++));
-        const int trousers = s.addTexture(makeTexture(TextureKind::Fabric, 256, k++));
-        const int skin = s.addTexture(makeTexture(TextureKind::Skin, 256, k++));
-        const uint16_t id = s.nextInstance_++;
-        s.instanceClasses_[id] = voc::kPerson;
-        s.people_.emplace_back(spec, id, shirt, trousers, skin, k++);
+        spec.sprite = personSprites_.size();
+        personSprites_.emplace_back(sprite.image, BillboardStyle{kPersonRelief, true});
+        const uint16_t id = nextInstance_++;
+        instanceClasses_[id] = voc::kPerson;
+        people_.emplace_back(spec, id);
     }
-    return s;
 }
 }  // namespace smap::sim

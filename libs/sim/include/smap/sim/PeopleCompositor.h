@@ -1,7 +1,8 @@
 // Composites moving people (RGBA cut-outs) into a real RGB-D sequence with ground-truth poses:
-// each person is a vertical billboard standing on the estimated floor, walking back and forth
-// in world coordinates, drawn with per-pixel depth test against the real depth and written
-// into the depth image. Gives real textures and real sensor noise with exactly known motion.
+// each person is a flat vertical billboard (SpriteBillboard) standing on the estimated floor and
+// facing the camera, walking back and forth in world coordinates, drawn with a per-pixel depth
+// test against the real depth and written into the depth image. Gives real textures and real sensor
+// noise with exactly known motion.
 #pragma once
 
 #include <mrpt/poses/CPose3D.h>
@@ -13,6 +14,7 @@
 
 #include "smap/core/RgbdFrame.h"
 #include "smap/core/Trajectory.h"
+#include "smap/sim/SpriteBillboard.h"
 
 namespace smap::sim
 {
@@ -84,11 +86,9 @@ public:
 
 private:
     std::vector<CompositedPerson> people_;
+    std::vector<SpriteBillboard> billboards_;  ///< of people_, in order
     Eigen::Vector3d up_;
     double floorHeight_ = 0.0;
     FreeSpaceCheck freeSpace_;
 };
-
-/// Loads every person_*.png (RGBA) of a folder; throws core::InputError when none loads.
-std::vector<cv::Mat> loadPeopleSprites(const std::string& folder);
 }  // namespace smap::sim

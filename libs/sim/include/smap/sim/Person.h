@@ -1,13 +1,16 @@
-// An articulated person: torso, head, two arms and two legs as textured boxes, walking along a
-// closed path with swinging limbs, or sitting and gesturing.
+// A person of the synthetic office: a real person cut-out (PersonSprite) drawn as a
+// depth-consistent billboard (SpriteBillboard) facing the cameras' side of the room, either
+// walking a closed path with a gait bob and sway, or sitting on a chair and swaying above the
+// hips.
 #pragma once
 
 #include <mrpt/poses/CPose3D.h>
 
 #include <Eigen/Core>
+#include <cstddef>
 #include <vector>
 
-#include "smap/sim/SceneObject.h"
+#include "smap/sim/SpriteBillboard.h"
 
 namespace smap::sim
 {
@@ -19,34 +22,34 @@ struct PersonSpec
         Sitting
     } kind = Kind::Walking;
     std::vector<Eigen::Vector2f> path;  ///< walking: closed polyline on the floor (x, y)
-    Eigen::Vector2f seat{0, 0};         ///< sitting: position of the hips on the floor plane
-    float seatHeight = 0.45f;           ///< sitting: hip height
-    float facing = 0.0f;                ///< sitting: heading (rad, about z)
+    Eigen::Vector2f seat{0, 0};         ///< sitting: the chair seat's centre on the floor plane
+    float seatHeight = 0.47f;           ///< sitting: hip height, the pivot of the sway
+    Eigen::Vector2f viewer{0, 0};       ///< floor point the billboard faces (the cameras' side)
     float speed = 1.0f;                 ///< walking speed, m/s (0.5 - 1.5)
-    float height = 1.75f;               ///< metres
-    float phase = 0.0f;                 ///< s, start offset along the path / gesture cycle
+    float height = 1.75f;               ///< metres, floor to the top of the head (as drawn)
+    float phase = 0.0f;                 ///< s, start offset along the path / sway cycle
+    size_t sprite = 0;                  ///< index into the scene's person sprites
 };
 
 class Person
 {
 public:
-    /// Body parts share `instanceId` (one person = one instance) and class person.
-    Person(const PersonSpec& spec, uint16_t instanceId, int shirtTexture, int trousersTexture,
-           int skinTexture, uint32_t seed);
+    /// Throws std::invalid_argument for a walking person without a path.
+    Person(const PersonSpec& spec, uint16_t instanceId);
 
-    /// Parts with quads in their own frames; poses come from partPoses().
-    const std::vector<SceneObject>& parts() const { return parts_; }
-    /// T_world_part of every part at time t (seconds), in parts() order.
-    std::vector<mrpt::poses::CPose3D> partPoses(double t) const;
-    /// Pose of the body frame (on the floor between the feet, x forward, z up) at time t.
+    /// Pose of the body frame (on the floor, x forward, z up) at time t: along the path
+    /// heading the way the person walks; on the seat facing the viewer.
     mrpt::poses::CPose3D rootPose(double t) const;
+    /// Where the billboard stands at time t (seconds).
+    BillboardPose billboard(double t) const;
     const PersonSpec& spec() const { return spec_; }
     uint16_t instanceId() const { return instanceId_; }
 
 private:
+    Eigen::Vector2d pointOnPath(double s) const;
+
     PersonSpec spec_;
     uint16_t instanceId_;
-    std::vector<SceneObject> parts_;
     double pathLength_ = 0.0;
 };
 }  // namespace smap::sim

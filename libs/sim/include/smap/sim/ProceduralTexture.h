@@ -13,9 +13,8 @@ enum class TextureKind
     Tiles,   ///< tiles with grout lines and per-tile tint
     Wood,    ///< wood grain rings
     Poster,  ///< random shapes and stroke "text" on paper
-    Fabric,  ///< woven stripes and checks (clothes, sofa)
+    Fabric,  ///< woven stripes and checks (sofa)
     Carpet,  ///< speckled short-pile carpet
-    Skin,    ///< smooth skin tones with facial-feature blobs
 };
 
 /// A `size` x `size` CV_8UC3 (BGR) texture. Same (kind, size, seed) gives the same pixels.

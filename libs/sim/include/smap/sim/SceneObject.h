@@ -39,7 +39,7 @@ struct SceneObject
     uint16_t instanceId = 0;  ///< unique per object in the world (0 = nothing rendered)
     int textureIndex = 0;     ///< into SyntheticScene::textures()
     std::vector<TexturedQuad> quads;
-    mrpt::poses::CPose3D T_world_object;  ///< pose of static objects (people pose per frame)
+    mrpt::poses::CPose3D T_world_object;  ///< pose of the object in the world
 };
 
 /// Adds the 6 faces of an axis-aligned box (object frame) centred at `centre`. Large faces are

@@ -40,6 +40,9 @@ struct GeneratorOptions
     bool noiseFreeDepth = false;
     DepthNoiseModel noise;
     core::PinholeCamera camera;  ///< default: 640x480, f = 525, c = (319.5, 239.5)
+    /// Person cut-outs (loadPersonSprites) for presets with people; default: people/ in the
+    /// data folder (core::findDataFile), empty when it is not there.
+    std::string peopleDirectory;
 
     GeneratorOptions();
 };

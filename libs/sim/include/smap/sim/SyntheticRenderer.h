@@ -1,5 +1,6 @@
-// Renders a SyntheticScene headless (MRPT CFBORender over EGL): colour, noise-free depth, class
-// labels, instance ids and the mask of pixels on objects moving at that instant.
+// Renders a SyntheticScene headless: the room with MRPT's CFBORender over EGL (colour, noise-free
+// depth, and a flat-coloured copy for class labels and instance ids), then its people as sprite
+// billboards over it (SpriteBillboard), with the mask of pixels moving at that instant.
 #pragma once
 
 #include <mrpt/poses/CPose3D.h>
@@ -31,8 +32,8 @@ public:
     SyntheticRenderer(const SyntheticRenderer&) = delete;
     SyntheticRenderer& operator=(const SyntheticRenderer&) = delete;
 
-    /// Renders the world at time t seen from T_world_cam. A body part counts as moving when
-    /// any of its corners moves more than 1 mm between t - motionDt and t.
+    /// Renders the world at time t seen from T_world_cam. A person's pixel counts as moving
+    /// when its point on the person moved more than 1 mm between t - motionDt and t.
     RenderedFrame render(double t, const mrpt::poses::CPose3D& T_world_cam,
                          double motionDt = 1.0 / 30.0);
 

@@ -7,7 +7,9 @@
 #include <vector>
 
 #include "smap/sim/Person.h"
+#include "smap/sim/PersonSprite.h"
 #include "smap/sim/SceneObject.h"
+#include "smap/sim/SpriteBillboard.h"
 
 namespace smap::sim
 {
@@ -17,12 +19,17 @@ public:
     /// A 6 x 5 x 2.8 m office: textured walls, floor and ceiling, a door, a window, a desk
     /// (diningtable) with a monitor, chairs, a sofa, a potted plant and shelves; `walking`
     /// people on paths through the free floor (0 - 3) and `sitting` people (0 - 2: at the desk,
-    /// on the side chair). Same seed, same scene.
-    static SyntheticScene makeOffice(uint32_t seed, int walking, int sitting);
+    /// on the side chair), drawn from the standing and the sitting `sprites`. Same seed, same
+    /// scene. Throws core::InputError when people are asked for and `sprites` has none of
+    /// their posture.
+    static SyntheticScene makeOffice(uint32_t seed, int walking, int sitting,
+                                     const std::vector<PersonSprite>& sprites);
 
     const std::vector<cv::Mat>& textures() const { return textures_; }
     const std::vector<SceneObject>& staticObjects() const { return objects_; }
     const std::vector<Person>& people() const { return people_; }
+    /// The billboards people are drawn with (Person::spec().sprite indexes them).
+    const std::vector<SpriteBillboard>& personSprites() const { return personSprites_; }
     /// Class id of every instance id present.
     const std::map<uint16_t, uint8_t>& instanceClasses() const { return instanceClasses_; }
     /// Where the camera presets stand and look.
@@ -32,10 +39,14 @@ public:
 private:
     int addTexture(const cv::Mat& t);
     SceneObject& addObject(const std::string& name, uint8_t classId, int texture);
+    void addRoomAndFurniture(uint32_t seed);
+    void addPeople(uint32_t seed, int walking, int sitting,
+                   const std::vector<PersonSprite>& sprites);
 
     std::vector<cv::Mat> textures_;
     std::vector<SceneObject> objects_;
     std::vector<Person> people_;
+    std::vector<SpriteBillboard> personSprites_;
     std::map<uint16_t, uint8_t> instanceClasses_;
     uint16_t nextInstance_ = 1;
 };
