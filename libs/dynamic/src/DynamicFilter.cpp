@@ -172,9 +172,16 @@ void DynamicFilter::processStrong(const cv::Mat& depth, const features::FeatureS
                                   const core::PinholeCamera& camera, const Stopwatch& lap,
                                   DynamicResult& result) const
 {
-    // No final iterative refinement: the flow tracks refine the pose below.
-    const std::optional<Eigen::Isometry3d> prior =
-        lastFramesBack_ == history_.size() ? lastMotion_ : std::nullopt;
+    // No final iterative refinement: the flow tracks refine the pose below. The prior competing
+    // with RANSAC is the last ego-motion over the same gap or, on the first comparison of a
+    // sequence, a camera at rest: without it the first frames have no defence against people
+    // who outvote the background (RANSAC then locks onto them, and the next frames' priors
+    // with it).
+    std::optional<Eigen::Isometry3d> prior;
+    if (lastMotion_ && lastFramesBack_ == history_.size())
+        prior = lastMotion_;
+    else if (!lastMotion_ && history_.size() == 1)
+        prior = Eigen::Isometry3d::Identity();
     result.egoMotion = estimateEgoMotionDepthPnp(reference().features, features, camera, params_,
                                                  false, reference().dynamic, prior);
     if (!result.egoMotion.valid)
