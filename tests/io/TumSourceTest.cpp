@@ -106,50 +106,107 @@ TEST(TumSource, AssociationsWithDepthFirstAreReadRgbFirst)
     }
 }
 
-TEST(TumSource, ReportsMissingImagesAndBadFolders)
+namespace
 {
-    test::TempDir dir;
-    test::writeTumFolder(dir.str(), 2, 0.0, false);
-    std::filesystem::remove(dir / "rgb/f1.png");
-    io::TumSource src(dir.str(), params());
-    EXPECT_TRUE(src.next().has_value());
-    try
+/// What read() gave for every entry: "frame" or the skipped frame's reason.
+std::vector<std::string> outcomes(io::FrameSource& src)
+{
+    std::vector<std::string> out;
+    while (auto r = src.read())
     {
-        src.next();
-        FAIL();
+        if (const auto* s = std::get_if<io::SkippedFrame>(&*r))
+            out.push_back(s->file + ": " + s->reason);
+        else
+            out.emplace_back("frame");
     }
-    catch (const core::InputError& e)
-    {
-        EXPECT_NE(std::string(e.what()).find("rgb/f1.png"), std::string::npos) << e.what();
-    }
-    test::TempDir empty;
-    EXPECT_THROW(io::TumSource(empty.str(), params()), core::InputError);
-    EXPECT_THROW(io::openFrameSource(empty / "missing", params()), core::InputError);
+    return out;
 }
 
-TEST(TumSource, CameraSizeMismatchIsAnError)
+bool contains(const std::string& text, const std::string& part)
+{
+    return text.find(part) != std::string::npos;
+}
+}  // namespace
+
+TEST(TumSource, BadImagesAreSkippedFramesNamingTheFileAndWhy)
+{
+    test::TempDir dir;
+    test::writeTumFolder(dir.str(), 8, 0.0, false);
+    std::filesystem::remove(dir / "rgb/f1.png");  // missing
+    std::filesystem::resize_file(dir / "depth/f2.png",
+                                 std::filesystem::file_size(dir / "depth/f2.png") / 2);  // cut
+    std::ofstream(dir / "rgb/f3.png").close();                                           // 0 bytes
+    cv::imwrite(dir / "depth/f4.png", test::patternDepthRaw(32, 24, 4));          // wrong size
+    cv::imwrite(dir / "depth/f5.png", cv::Mat(48, 64, CV_16UC1, cv::Scalar(0)));  // no depth
+    cv::imwrite(dir / "depth/f6.png", cv::Mat(48, 64, CV_8UC1, cv::Scalar(9)));   // 8-bit
+    std::ofstream(dir / "rgb/f7.png") << "not a png at all";                      // garbage
+    io::TumSource src(dir.str(), params());
+    const auto got = outcomes(src);
+    ASSERT_EQ(got.size(), 8u);
+    EXPECT_EQ(got[0], "frame");
+    EXPECT_TRUE(contains(got[1], "rgb/f1.png: colour image missing")) << got[1];
+    EXPECT_TRUE(contains(got[2], "depth/f2.png: depth image cannot be decoded")) << got[2];
+    EXPECT_TRUE(contains(got[3], "rgb/f3.png: colour image empty (0 bytes)")) << got[3];
+    EXPECT_TRUE(contains(got[4], "depth/f4.png: depth image is 32x24, expected 64x48")) << got[4];
+    EXPECT_TRUE(contains(got[5], "depth/f5.png: depth image holds no valid depth")) << got[5];
+    EXPECT_TRUE(contains(got[6], "depth/f6.png: depth image is not a 16-bit")) << got[6];
+    EXPECT_TRUE(contains(got[7], "rgb/f7.png: colour image cannot be decoded")) << got[7];
+
+    // next() passes over them; the skipped frames keep their place in the indices.
+    io::TumSource again(dir.str(), params());
+    const auto first = again.next();
+    ASSERT_TRUE(first.has_value());
+    EXPECT_EQ(first->index, 0u);
+    EXPECT_FALSE(again.next().has_value());
+}
+
+TEST(TumSource, CameraSizeMismatchSkipsTheFrameSayingSo)
 {
     test::TempDir dir;
     test::writeTumFolder(dir.str(), 1, 0.0, false);
     auto p = params();
     p.camera = test::smallCamera(640, 480);
     io::TumSource src(dir.str(), p);
-    EXPECT_THROW(src.next(), core::InputError);
+    const auto got = outcomes(src);
+    ASSERT_EQ(got.size(), 1u);
+    EXPECT_TRUE(contains(got[0], "colour image is 64x48, expected 640x480")) << got[0];
+}
+
+TEST(TumSource, MalformedListLinesAreLeftOutAndEmptyListsNamed)
+{
+    test::TempDir dir;
+    test::writeTumFolder(dir.str(), 3, 0.0, true);
+    {
+        std::ofstream assoc(dir / "associations.txt", std::ios::app);
+        assoc << "garbage line here\n";
+    }
+    io::TumSource src(dir.str(), params());
+    EXPECT_EQ(src.sizeHint().value(), 3u);
+    EXPECT_EQ(src.badListLines(), 1u);
+    EXPECT_EQ(outcomes(src), std::vector<std::string>(3, "frame"));
+
+    // An empty list is an error naming that list, not the folder alone.
+    std::ofstream(dir / "associations.txt").close();
+    const std::string e = test::inputErrorOf([&] { io::TumSource(dir.str(), params()); });
+    EXPECT_TRUE(contains(e, dir / "associations.txt") && contains(e, "lists no frames")) << e;
+    std::filesystem::remove(dir / "associations.txt");
+    std::ofstream(dir / "depth.txt") << "# only a comment\n";
+    const std::string d = test::inputErrorOf([&] { io::TumSource(dir.str(), params()); });
+    EXPECT_TRUE(contains(d, dir / "depth.txt") && contains(d, "lists no images")) << d;
+
+    test::TempDir empty;
+    EXPECT_TRUE(contains(test::inputErrorOf([&] { io::TumSource(empty.str(), params()); }),
+                         "is not a TUM RGB-D folder"));
+    EXPECT_THROW(io::openFrameSource(empty / "missing", params()), core::InputError);
 }
 
 TEST(TumSource, NoOverlappingTimestampsIsAnError)
 {
     test::TempDir dir;
     test::writeTumFolder(dir.str(), 3, 0.5, false);  // depth 0.5 s late: nothing within 0.02 s
-    try
-    {
-        io::TumSource src(dir.str(), params());
-        FAIL();
-    }
-    catch (const core::InputError& e)
-    {
-        EXPECT_NE(std::string(e.what()).find("no rgb/depth pairs"), std::string::npos);
-    }
+    const std::string e = test::inputErrorOf([&] { io::TumSource(dir.str(), params()); });
+    EXPECT_TRUE(contains(e, "no timestamp of rgb.txt (3 images) has one in depth.txt")) << e;
+    EXPECT_TRUE(contains(e, "max_dt = 0.02")) << e;
 }
 
 namespace

@@ -26,13 +26,13 @@ public:
     {
     }
 
-    std::optional<core::RgbdFrame> next() override
+    std::optional<FrameRead> read() override
     {
         if (maxFrames_ != 0 && delivered_ >= maxFrames_)
             return std::nullopt;
         for (;;)
         {
-            auto f = inner_->next();
+            auto f = inner_->read();
             if (!f)
                 return std::nullopt;
             if (seen_++ % stride_ != 0)
@@ -53,6 +53,7 @@ public:
         return k;
     }
     std::string groundTruthPath() const override { return inner_->groundTruthPath(); }
+    std::string endedEarly() const override { return inner_->endedEarly(); }
 
 private:
     std::unique_ptr<FrameSource> inner_;
@@ -62,6 +63,29 @@ private:
     size_t delivered_ = 0;
 };
 }  // namespace
+
+std::optional<core::RgbdFrame> FrameSource::next()
+{
+    while (auto r = read())
+    {
+        if (auto* frame = std::get_if<core::RgbdFrame>(&*r))
+            return std::move(*frame);
+    }
+    return std::nullopt;
+}
+
+FrameRead FrameSource::skip(SkippedFrame frame)
+{
+    skipped_++;
+    constexpr size_t kEachUpTo = 20, kThenEvery = 100;
+    if (skipped_ <= kEachUpTo)
+        MRPT_LOG_WARN_FMT("frame %zu skipped: '%s': %s", frame.index, frame.file.c_str(),
+                          frame.reason.c_str());
+    else if (skipped_ % kThenEvery == 0)
+        MRPT_LOG_WARN_FMT("frame %zu skipped: '%s': %s (%zu frames skipped so far)", frame.index,
+                          frame.file.c_str(), frame.reason.c_str(), skipped_);
+    return frame;
+}
 
 std::unique_ptr<FrameSource> openFrameSource(const std::string& path,
                                              const FrameSourceParameters& params)

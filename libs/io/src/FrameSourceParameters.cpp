@@ -17,6 +17,10 @@ void FrameSourceParameters::loadFromConfigFile(const mrpt::config::CConfigFileBa
         throw core::InputError(mrpt::format("[input] stride = %d must be >= 1", strideValue));
     max_frames = static_cast<size_t>(maxFrames);
     stride = static_cast<size_t>(strideValue);
+    max_skipped_fraction = cfg.read_double("input", "max_skipped_fraction", max_skipped_fraction);
+    if (!(max_skipped_fraction >= 0.0 && max_skipped_fraction <= 1.0))
+        throw core::InputError(mrpt::format("[input] max_skipped_fraction = %g must be in [0, 1]",
+                                            max_skipped_fraction));
 
     tum_depth_factor = cfg.read_double("tum", "depth_factor", tum_depth_factor);
     tum_max_dt = cfg.read_double("tum", "max_dt", tum_max_dt);
@@ -39,6 +43,7 @@ void FrameSourceParameters::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
 {
     cfg.write("input", "max_frames", static_cast<int>(max_frames));
     cfg.write("input", "stride", static_cast<int>(stride));
+    cfg.write("input", "max_skipped_fraction", max_skipped_fraction);
     cfg.write("tum", "depth_factor", tum_depth_factor);
     cfg.write("tum", "max_dt", tum_max_dt);
     cfg.write("tum", "use_associations", tum_use_associations);

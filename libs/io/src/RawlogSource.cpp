@@ -1,6 +1,7 @@
 #include "smap/io/RawlogSource.h"
 
 #include <mrpt/core/Clock.h>
+#include <mrpt/core/aligned_allocator.h>
 #include <mrpt/core/format.h>
 #include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/obs/CActionCollection.h>
@@ -10,14 +11,18 @@
 #include <mrpt/serialization/CArchive.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <deque>
 #include <filesystem>
+#include <fstream>
+#include <new>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <optional>
 
 #include "smap/core/InputError.h"
 #include "smap/io/DepthRegistration.h"
+#include "smap/io/ImageFile.h"
 #include "smap/io/RangeImageFile.h"
 #include "smap/io/TumSource.h"
 
@@ -58,6 +63,23 @@ bool sameIntrinsics(const core::PinholeCamera& a, const core::PinholeCamera& b)
     return same;
 }
 
+/// The uncompressed size (mod 2^32) a gzip file's trailer states; nullopt for other files.
+std::optional<uint32_t> gzipTrailerSize(const std::string& path, uint64_t fileSize)
+{
+    std::ifstream in(path, std::ios::binary);
+    unsigned char magic[2] = {0, 0};
+    constexpr uint64_t kSmallestGzip = 18;  // a 10-byte header, data, an 8-byte trailer
+    if (!in.read(reinterpret_cast<char*>(magic), 2) || magic[0] != 0x1f || magic[1] != 0x8b ||
+        fileSize < kSmallestGzip)
+        return std::nullopt;
+    unsigned char tail[4];
+    in.seekg(static_cast<std::streamoff>(fileSize - 4));
+    if (!in.read(reinterpret_cast<char*>(tail), 4))
+        return std::nullopt;
+    return static_cast<uint32_t>(tail[0] | (tail[1] << 8) | (tail[2] << 16) |
+                                 (static_cast<uint32_t>(tail[3]) << 24));
+}
+
 Eigen::Isometry3d toIsometry(const mrpt::poses::CPose3D& p)
 {
     Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
@@ -80,6 +102,10 @@ struct RawlogSource::Impl
     size_t frames = 0;
     size_t rgbdWithoutImages = 0;
     size_t rgbdOtherLabel = 0;
+    uint64_t fileSize = 0;
+    /// For a gzip file, the size of its data modulo 2^32 as its trailer (last 4 bytes) says.
+    std::optional<uint32_t> gzipDataSize;
+    std::string damage;  ///< why reading stopped before the end of the file, if it did
     /// The sensor read: [rawlog] sensor_label, else the label of the first usable RGB-D
     /// observation (two cameras interleaved would be one camera jumping between two places).
     std::optional<std::string> label;
@@ -103,8 +129,14 @@ struct RawlogSource::Impl
         return p.is_absolute() ? file : (fs::path(imagesDir) / p).string();
     }
 
-    /// Reads entries until an RGB-D observation is queued; false at end of file.
+    /// Reads entries until an RGB-D observation is queued; false at the end of the file, or
+    /// at damage (`damage` says where) after the first entry.
     bool fill(COutputLogger& log);
+    /// The error for a rawlog that ended without a single usable RGB-D observation.
+    std::string nothingUsable() const;
+    /// At the end of the data: sets `damage` when the file is gzip and its data is shorter than
+    /// its trailer says (a compressed recording cut short, even between two entries).
+    void noteMissingGzipTrailer(size_t entriesRead);
     core::RgbdFrame convert(const CObservation3DRangeScan& obs, COutputLogger& log);
     const std::vector<float>& rangeToDepthFactors(const core::PinholeCamera& depthCam);
 };
@@ -114,29 +146,35 @@ bool RawlogSource::Impl::fill(COutputLogger& log)
     while (pending.empty())
     {
         mrpt::serialization::CSerializable::Ptr obj;
+        const uint64_t entryStart = stream.getPosition();
         try
         {
             obj = archive->ReadObject();
         }
-        catch (const mrpt::serialization::CExceptionEOF&)
-        {
-            return false;
-        }
         catch (const std::exception& e)
         {
-            // MRPT 2.5 reports a clean end of file as a plain exception: accept it only when
-            // the stream really is at its end, so a truncated entry stays an error.
-            if (stream.checkEOF() &&
-                std::string(e.what()).find("Cannot read object due to EOF") != std::string::npos)
+            // The end of the file between two entries is the end of the recording (MRPT 2.5
+            // reports it as CExceptionEOF or as a plain exception); an end inside an entry, or
+            // anything else, is damage.
+            const bool atEnd =
+                dynamic_cast<const mrpt::serialization::CExceptionEOF*>(&e) != nullptr ||
+                std::string(e.what()).find("Cannot read object due to EOF") != std::string::npos;
+            if (atEnd && stream.checkEOF() && stream.getPosition() == entryStart)
+            {
+                noteMissingGzipTrailer(entries);
                 return false;
+            }
             if (entries == 0)
                 throw core::InputError(mrpt::format(
                     "'%s' is not an MRPT rawlog: its first entry cannot be read (%s); a TUM RGB-D "
                     "folder is given as the folder itself",
                     path.c_str(), innermostMrptMessage(e.what()).c_str()));
-            throw core::InputError(
-                mrpt::format("rawlog '%s': cannot read entry %zu (corrupt or truncated file): %s",
-                             path.c_str(), entries + 1, innermostMrptMessage(e.what()).c_str()));
+            // A recording cut short (or damaged) mid-entry: what came before it still counts.
+            damage = mrpt::format(
+                "rawlog '%s' is damaged or cut short at entry %zu (about byte %llu of %llu): %s",
+                path.c_str(), entries + 1, static_cast<unsigned long long>(stream.getPosition()),
+                static_cast<unsigned long long>(fileSize), innermostMrptMessage(e.what()).c_str());
+            return false;
         }
         entries++;
         if (!obj)
@@ -197,6 +235,36 @@ bool RawlogSource::Impl::fill(COutputLogger& log)
     return true;
 }
 
+void RawlogSource::Impl::noteMissingGzipTrailer(size_t entriesRead)
+{
+    const uint64_t read = stream.getPosition();
+    if (!gzipDataSize || static_cast<uint32_t>(read) == *gzipDataSize)
+        return;
+    damage = mrpt::format(
+        "rawlog '%s' is damaged or cut short at entry %zu: its compressed data ends after %llu "
+        "bytes, where its gzip trailer says %u (mod 2^32)",
+        path.c_str(), entriesRead + 1, static_cast<unsigned long long>(read), *gzipDataSize);
+}
+
+std::string RawlogSource::Impl::nothingUsable() const
+{
+    std::string found;
+    for (const auto& [name, n] : classCounts)
+        found += mrpt::format("%s%s x%zu", found.empty() ? "" : ", ", name.c_str(), n);
+    std::string why;
+    if (rgbdOtherLabel)
+        why += mrpt::format("; %zu had a sensor label other than '%s'", rgbdOtherLabel,
+                            params.rawlog_sensor_label.c_str());
+    if (rgbdWithoutImages)
+        why += mrpt::format("; %zu lacked range or intensity images", rgbdWithoutImages);
+    if (!damage.empty())
+        why += "; " + damage;
+    return mrpt::format(
+        "rawlog '%s' holds no usable RGB-D observation (mrpt::obs::CObservation3DRangeScan with "
+        "range and intensity images); it contains: %s%s",
+        path.c_str(), found.empty() ? "nothing" : found.c_str(), why.c_str());
+}
+
 const std::vector<float>& RawlogSource::Impl::rangeToDepthFactors(
     const core::PinholeCamera& depthCam)
 {
@@ -213,17 +281,17 @@ const std::vector<float>& RawlogSource::Impl::rangeToDepthFactors(
 core::RgbdFrame RawlogSource::Impl::convert(const CObservation3DRangeScan& obs, COutputLogger& log)
 {
     core::RgbdFrame f;
-    f.index = frames;
     f.timestamp = mrpt::Clock::toDouble(obs.timestamp);
 
     // Colour.
     if (obs.intensityImage.isExternallyStored())
     {
         const std::string file = resolve(obs.intensityImage.getExternalStorageFile());
-        f.colour = cv::imread(file, cv::IMREAD_COLOR);
-        if (f.colour.empty())
-            throw core::InputError(mrpt::format(
-                "rawlog '%s': cannot read external colour image '%s'", path.c_str(), file.c_str()));
+        auto colour = readImageFile(file, cv::IMREAD_COLOR);
+        if (!colour.problem.empty())
+            throw core::InputError(mrpt::format("external colour image '%s' %s", file.c_str(),
+                                                colour.problem.c_str()));
+        f.colour = colour.image;
         f.name = fs::path(file).stem().string();
     }
     else
@@ -238,7 +306,6 @@ core::RgbdFrame RawlogSource::Impl::convert(const CObservation3DRangeScan& obs, 
         if (f.colour.empty() || f.colour.depth() != CV_8U)
             throw core::InputError(mrpt::format(
                 "rawlog '%s' entry %zu: unsupported intensity image", path.c_str(), entries));
-        f.name = mrpt::format("frame%06zu", frames);
     }
 
     // Range image, as raw uint16 on the depth camera's grid.
@@ -359,12 +426,14 @@ RawlogSource::RawlogSource(const std::string& path, const FrameSourceParameters&
     }
     if (!fs::is_regular_file(path) || !impl_->stream.open(path))
         throw core::InputError(mrpt::format("cannot open rawlog '%s'", path.c_str()));
+    impl_->fileSize = fs::file_size(path);
+    impl_->gzipDataSize = gzipTrailerSize(path, impl_->fileSize);
     impl_->archive.emplace(impl_->stream);
 }
 
 RawlogSource::~RawlogSource() = default;
 
-std::optional<core::RgbdFrame> RawlogSource::next()
+std::optional<FrameRead> RawlogSource::read()
 {
     if (impl_->ended)
         return std::nullopt;
@@ -372,30 +441,37 @@ std::optional<core::RgbdFrame> RawlogSource::next()
     {
         impl_->ended = true;
         if (impl_->frames == 0)
-        {
-            std::string found;
-            for (const auto& [name, n] : impl_->classCounts)
-                found += mrpt::format("%s%s x%zu", found.empty() ? "" : ", ", name.c_str(), n);
-            std::string why;
-            if (impl_->rgbdOtherLabel)
-                why +=
-                    mrpt::format("; %zu had a sensor label other than '%s'", impl_->rgbdOtherLabel,
-                                 impl_->params.rawlog_sensor_label.c_str());
-            if (impl_->rgbdWithoutImages)
-                why += mrpt::format("; %zu lacked range or intensity images",
-                                    impl_->rgbdWithoutImages);
-            throw core::InputError(mrpt::format(
-                "rawlog '%s' holds no usable RGB-D observation (mrpt::obs::CObservation3DRangeScan "
-                "with range and intensity images); it contains: %s%s",
-                impl_->path.c_str(), found.empty() ? "nothing" : found.c_str(), why.c_str()));
-        }
+            throw core::InputError(impl_->nothingUsable());
+        if (!impl_->damage.empty())
+            MRPT_LOG_WARN_FMT("%s; stopped there: the %zu frames before it are processed",
+                              impl_->damage.c_str(), impl_->frames);
         return std::nullopt;
     }
     auto obs = impl_->pending.front();
     impl_->pending.pop_front();
-    auto frame = impl_->convert(*obs, *this);
-    impl_->frames++;
-    return frame;
+    const size_t index = impl_->frames++;
+    try
+    {
+        auto frame = impl_->convert(*obs, *this);
+        frame.index = index;
+        if (frame.name.empty())
+            frame.name = mrpt::format("frame%06zu", index);
+        if (cv::countNonZero(frame.depth) == 0)
+            throw core::InputError("the range image holds no valid depth (every pixel 0)");
+        return frame;
+    }
+    catch (const std::exception& e)  // InputError, or an image OpenCV cannot convert
+    {
+        return skip({index, mrpt::Clock::toDouble(obs->timestamp),
+                     mrpt::format("frame%06zu", index),
+                     mrpt::format("%s entry %zu", impl_->path.c_str(), impl_->entries),
+                     innermostMrptMessage(e.what())});
+    }
+}
+
+std::string RawlogSource::endedEarly() const
+{
+    return impl_->ended ? impl_->damage : std::string();
 }
 
 std::string RawlogSource::description() const
@@ -419,3 +495,29 @@ const std::map<std::string, size_t>& RawlogSource::classCounts() const
     return impl_->classCounts;
 }
 }  // namespace smap::io
+
+// A workaround for MRPT 2.5, which can crash on a damaged rawlog: its aligned_allocator uses the
+// pointer mrpt::aligned_malloc() returns without checking it, so a corrupt range-image size
+// (a flipped bit asking for terabytes) makes rangeImage_setSize() write through a null pointer.
+// The definition below of mrpt::aligned_malloc takes precedence over libmrpt-core's in every
+// program that links smap::io (the executable's symbol interposes the shared library's). It
+// allocates as MRPT's does (aligned, size rounded up to the alignment) but throws std::bad_alloc
+// when the allocation fails, which RawlogSource reports as damage. mrpt::aligned_free stays MRPT's:
+// std::free, which releases these blocks too.
+// It lives in this file, which every program reading rawlogs links, so that the static
+// library's object holding it is always part of the program.
+void* mrpt::aligned_malloc(size_t size, size_t alignment)
+{
+    // As libmrpt-core 2.5: the size rounded up to a multiple of the alignment, aligned_alloc.
+    size_t rounded = size;
+    if (alignment != 0 && size % alignment != 0)
+    {
+        if (size > SIZE_MAX - alignment)
+            throw std::bad_alloc();
+        rounded = (size / alignment + 1) * alignment;
+    }
+    void* p = std::aligned_alloc(alignment, rounded);
+    if (p == nullptr && rounded != 0)  // what MRPT would have written through
+        throw std::bad_alloc();
+    return p;
+}

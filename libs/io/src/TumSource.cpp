@@ -10,6 +10,7 @@
 
 #include "smap/core/InputError.h"
 #include "smap/core/TimestampAssociation.h"
+#include "smap/io/ImageFile.h"
 
 namespace fs = std::filesystem;
 
@@ -83,82 +84,11 @@ std::string firstComponent(const std::string& relative)
 TumSource::TumSource(const std::string& folder, const FrameSourceParameters& params)
     : FrameSource("TumSource"), folder_(folder), params_(params)
 {
-    const fs::path dir(folder);
-    const fs::path assocPath = dir / "associations.txt";
+    const fs::path assocPath = fs::path(folder) / "associations.txt";
     if (params.tum_use_associations && fs::exists(assocPath))
-    {
-        entries_ = readTumAssociations(assocPath.string());
-        // associate.py run as "depth.txt rgb.txt" writes depth first: recognised by the folders.
-        size_t swapped = 0;
-        for (auto& e : entries_)
-        {
-            if (firstComponent(e.rgbFile) == "depth" && firstComponent(e.depthFile) == "rgb")
-            {
-                std::swap(e.rgbFile, e.depthFile);
-                std::swap(e.rgbTimestamp, e.depthTimestamp);
-                swapped++;
-            }
-        }
-        if (swapped > 0)
-        {
-            MRPT_LOG_WARN_FMT(
-                "%s: %zu line(s) list depth/ before rgb/ (associate.py given "
-                "depth.txt first); read as rgb, depth",
-                assocPath.c_str(), swapped);
-        }
-        // Pairs further apart than max_dt: one warning with the count and the first line.
-        size_t apart = 0;
-        const TumAssociationEntry* first = nullptr;
-        for (const auto& e : entries_)
-        {
-            if (std::abs(e.rgbTimestamp - e.depthTimestamp) >= params.tum_max_dt)
-            {
-                apart++;
-                if (first == nullptr)
-                    first = &e;
-            }
-        }
-        if (first != nullptr)
-        {
-            MRPT_LOG_WARN_FMT(
-                "%s: %zu pair(s) with rgb and depth timestamps further apart than max_dt %.4f s "
-                "(first at line %zu: %.4f s)",
-                assocPath.c_str(), apart, params.tum_max_dt, first->line,
-                std::abs(first->rgbTimestamp - first->depthTimestamp));
-        }
-    }
+        readAssociations(assocPath.string());
     else
-    {
-        const fs::path rgbPath = dir / "rgb.txt";
-        const fs::path depthPath = dir / "depth.txt";
-        if (!fs::exists(rgbPath) || !fs::exists(depthPath))
-        {
-            throw core::InputError(
-                mrpt::format("'%s' is not a TUM RGB-D folder: it needs rgb.txt and depth.txt (or "
-                             "associations.txt)",
-                             folder.c_str()));
-        }
-        const auto rgb = readTumList(rgbPath.string());
-        const auto depth = readTumList(depthPath.string());
-        std::vector<double> tr, td;
-        for (const auto& e : rgb)
-            tr.push_back(e.timestamp);
-        for (const auto& e : depth)
-            td.push_back(e.timestamp);
-        for (const auto& m : core::associateTimestamps(tr, td, params.tum_max_dt))
-        {
-            const auto& a = rgb[m.first];
-            const auto& b = depth[m.second];
-            entries_.push_back({a.timestamp, a.file, b.timestamp, b.file, a.line});
-        }
-    }
-    if (entries_.empty())
-    {
-        throw core::InputError(mrpt::format(
-            "TUM folder '%s': no rgb/depth pairs (empty lists, or no timestamps within max_dt = "
-            "%g s)",
-            folder.c_str(), params.tum_max_dt));
-    }
+        associateLists();
     if (params.camera)
     {
         camera_ = *params.camera;
@@ -171,6 +101,114 @@ TumSource::TumSource(const std::string& folder, const FrameSourceParameters& par
                              << camera_.toString()
                              << ". Pass a preset (config/tum_fr1.ini, tum_fr2.ini, tum_fr3.ini, "
                                 "7scenes.ini, bonn.ini).");
+    }
+}
+
+void TumSource::warnBadLines(const std::vector<std::string>& badLines)
+{
+    badListLines_ += badLines.size();
+    constexpr size_t kEach = 20;
+    for (size_t k = 0; k < badLines.size() && k < kEach; k++)
+        MRPT_LOG_WARN_STREAM(badLines[k] << " (line skipped)");
+    if (badLines.size() > kEach)
+        MRPT_LOG_WARN_FMT("... and %zu more malformed list lines skipped", badLines.size() - kEach);
+}
+
+void TumSource::readAssociations(const std::string& assocPath)
+{
+    std::vector<std::string> badLines;
+    entries_ = readTumAssociations(assocPath, &badLines);
+    warnBadLines(badLines);
+    if (entries_.empty())
+    {
+        throw core::InputError(mrpt::format(
+            "'%s' lists no frames (no 'rgb_timestamp rgb_file depth_timestamp depth_file' "
+            "line%s): fill it, or remove it to associate rgb.txt and depth.txt",
+            assocPath.c_str(),
+            badLines.empty() ? "" : mrpt::format("; %zu malformed", badLines.size()).c_str()));
+    }
+    // associate.py run as "depth.txt rgb.txt" writes depth first: recognised by the folders.
+    size_t swapped = 0;
+    for (auto& e : entries_)
+    {
+        if (firstComponent(e.rgbFile) == "depth" && firstComponent(e.depthFile) == "rgb")
+        {
+            std::swap(e.rgbFile, e.depthFile);
+            std::swap(e.rgbTimestamp, e.depthTimestamp);
+            swapped++;
+        }
+    }
+    if (swapped > 0)
+    {
+        MRPT_LOG_WARN_FMT(
+            "%s: %zu line(s) list depth/ before rgb/ (associate.py given depth.txt first); read "
+            "as rgb, depth",
+            assocPath.c_str(), swapped);
+    }
+    // Pairs further apart than max_dt: one warning with the count and the first line.
+    size_t apart = 0;
+    const TumAssociationEntry* first = nullptr;
+    for (const auto& e : entries_)
+    {
+        if (std::abs(e.rgbTimestamp - e.depthTimestamp) >= params_.tum_max_dt)
+        {
+            apart++;
+            if (first == nullptr)
+                first = &e;
+        }
+    }
+    if (first != nullptr)
+    {
+        MRPT_LOG_WARN_FMT(
+            "%s: %zu pair(s) with rgb and depth timestamps further apart than max_dt %.4f s "
+            "(first at line %zu: %.4f s)",
+            assocPath.c_str(), apart, params_.tum_max_dt, first->line,
+            std::abs(first->rgbTimestamp - first->depthTimestamp));
+    }
+}
+
+void TumSource::associateLists()
+{
+    const fs::path dir(folder_);
+    const fs::path rgbPath = dir / "rgb.txt";
+    const fs::path depthPath = dir / "depth.txt";
+    if (!fs::exists(rgbPath) || !fs::exists(depthPath))
+    {
+        throw core::InputError(
+            mrpt::format("'%s' is not a TUM RGB-D folder: it needs rgb.txt and depth.txt (or "
+                         "associations.txt)",
+                         folder_.c_str()));
+    }
+    auto readList = [this](const fs::path& path)
+    {
+        std::vector<std::string> badLines;
+        auto list = readTumList(path.string(), &badLines);
+        warnBadLines(badLines);
+        if (list.empty())
+            throw core::InputError(mrpt::format(
+                "'%s' lists no images (no 'timestamp filename' line%s)", path.c_str(),
+                badLines.empty() ? "" : mrpt::format("; %zu malformed", badLines.size()).c_str()));
+        return list;
+    };
+    const auto rgb = readList(rgbPath);
+    const auto depth = readList(depthPath);
+    std::vector<double> tr, td;
+    for (const auto& e : rgb)
+        tr.push_back(e.timestamp);
+    for (const auto& e : depth)
+        td.push_back(e.timestamp);
+    for (const auto& m : core::associateTimestamps(tr, td, params_.tum_max_dt))
+    {
+        const auto& a = rgb[m.first];
+        const auto& b = depth[m.second];
+        entries_.push_back({a.timestamp, a.file, b.timestamp, b.file, a.line});
+    }
+    if (entries_.empty())
+    {
+        throw core::InputError(mrpt::format(
+            "TUM folder '%s': no timestamp of rgb.txt (%zu images) has one in depth.txt (%zu "
+            "images) within max_dt = %g s",
+            folder_.c_str(), rgb.size(), depth.size(), params_.tum_max_dt));
     }
 }
 
@@ -194,61 +232,66 @@ std::string TumSource::groundTruthPath() const
 cv::Mat TumSource::readRawDepth(size_t i) const
 {
     const std::string path = absolutePath(entries_.at(i).depthFile);
-    cv::Mat raw = cv::imread(path, cv::IMREAD_UNCHANGED);
-    if (raw.empty())
-        throw core::InputError(mrpt::format("cannot read depth image '%s'", path.c_str()));
-    if (raw.type() != CV_16UC1)
-    {
-        throw core::InputError(
-            mrpt::format("depth image '%s' is not a 16-bit single-channel PNG (OpenCV type %d)",
-                         path.c_str(), raw.type()));
-    }
+    cv::Mat raw;
+    if (const auto problem = readDepthImage(path, raw))
+        throw core::InputError(mrpt::format("depth image '%s' %s", path.c_str(), problem->c_str()));
     return raw;
 }
 
-std::optional<core::RgbdFrame> TumSource::next()
+std::optional<std::string> TumSource::readDepthImage(const std::string& path, cv::Mat& raw) const
+{
+    auto depth = readImageFile(path, cv::IMREAD_UNCHANGED, {camera_.width, camera_.height});
+    if (!depth.problem.empty())
+        return depth.problem;
+    if (depth.image.type() != CV_16UC1)
+        return mrpt::format("is not a 16-bit single-channel PNG (OpenCV type %d)",
+                            depth.image.type());
+    raw = depth.image;
+    return std::nullopt;
+}
+
+std::optional<FrameRead> TumSource::read()
 {
     if (cursor_ >= entries_.size())
         return std::nullopt;
     const size_t i = cursor_++;
     const auto& e = entries_[i];
+    SkippedFrame bad{i, e.rgbTimestamp, fs::path(e.rgbFile).stem().string(), {}, {}};
+    auto rejected = [&](const std::string& file, const std::string& what)
+    {
+        bad.file = file;
+        bad.reason = what;
+        return skip(bad);
+    };
 
     core::RgbdFrame f;
     const std::string rgbPath = absolutePath(e.rgbFile);
-    f.colour = cv::imread(rgbPath, cv::IMREAD_COLOR);
-    if (f.colour.empty())
-        throw core::InputError(mrpt::format("cannot read colour image '%s'", rgbPath.c_str()));
-    const cv::Mat raw = readRawDepth(i);
-    if (raw.size() != f.colour.size())
-    {
-        throw core::InputError(mrpt::format("depth image '%s' is %dx%d but colour '%s' is %dx%d",
-                                            absolutePath(e.depthFile).c_str(), raw.cols, raw.rows,
-                                            rgbPath.c_str(), f.colour.cols, f.colour.rows));
-    }
-    if (f.colour.cols != camera_.width || f.colour.rows != camera_.height)
-    {
-        throw core::InputError(mrpt::format("colour image '%s' is %dx%d but [camera] says %dx%d",
-                                            rgbPath.c_str(), f.colour.cols, f.colour.rows,
-                                            camera_.width, camera_.height));
-    }
+    auto colour = readImageFile(rgbPath, cv::IMREAD_COLOR, {camera_.width, camera_.height});
+    if (!colour.problem.empty())
+        return rejected(rgbPath, "colour image " + colour.problem);
+    f.colour = colour.image;
+    const std::string depthPath = absolutePath(e.depthFile);
+    cv::Mat raw;
+    if (const auto problem = readDepthImage(depthPath, raw))
+        return rejected(depthPath, "depth image " + *problem);
     rawDepthToMetres(raw, static_cast<float>(1.0 / params_.tum_depth_factor), f.depth);
-    if (!depthScaleChecked_)
-    {
-        // Only the depth unit, and only once: the first frame with depth over a tenth of it.
-        if (cv::countNonZero(f.depth) * 10 >= static_cast<int>(f.depth.total()))
-        {
-            depthScaleChecked_ = true;
-            if (const auto w = implausibleDepthScale(f.depth, params_.tum_depth_factor))
-            {
-                MRPT_LOG_WARN_FMT("depth image '%s': %s", absolutePath(e.depthFile).c_str(),
-                                  w->c_str());
-            }
-        }
-    }
+    if (cv::countNonZero(f.depth) == 0)
+        return rejected(depthPath, "depth image holds no valid depth (every pixel 0 or 65535)");
+    checkDepthScaleOnce(f.depth, depthPath);
     f.camera = camera_;
     f.timestamp = e.rgbTimestamp;
     f.index = i;
-    f.name = fs::path(e.rgbFile).stem().string();
+    f.name = bad.name;
     return f;
+}
+
+void TumSource::checkDepthScaleOnce(const cv::Mat& depth, const std::string& depthPath)
+{
+    // Only the depth unit, and only once: the first frame with depth over a tenth of it.
+    if (depthScaleChecked_ || cv::countNonZero(depth) * 10 < static_cast<int>(depth.total()))
+        return;
+    depthScaleChecked_ = true;
+    if (const auto w = implausibleDepthScale(depth, params_.tum_depth_factor))
+        MRPT_LOG_WARN_FMT("depth image '%s': %s", depthPath.c_str(), w->c_str());
 }
 }  // namespace smap::io

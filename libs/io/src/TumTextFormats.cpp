@@ -51,8 +51,10 @@ double parseNumber(const std::string& s, const std::string& source, size_t line,
     return v;
 }
 
+/// Calls fn(fields, line) for every data line. With `badLines`, a line fn rejects (InputError)
+/// is recorded there and left out; without, the error propagates.
 template <typename Fn>
-void forEachDataLine(std::istream& in, Fn&& fn)
+void forEachDataLine(std::istream& in, std::vector<std::string>* badLines, Fn&& fn)
 {
     std::string line;
     std::vector<std::string> fields;
@@ -60,8 +62,18 @@ void forEachDataLine(std::istream& in, Fn&& fn)
     while (std::getline(in, line))
     {
         lineNo++;
-        if (splitLine(line, fields))
+        if (!splitLine(line, fields))
+            continue;
+        try
+        {
             fn(fields, lineNo);
+        }
+        catch (const core::InputError& e)
+        {
+            if (badLines == nullptr)
+                throw;
+            badLines->emplace_back(e.what());
+        }
     }
 }
 
@@ -90,11 +102,12 @@ std::string formatTimestamp(double t)
 }
 }  // namespace
 
-std::vector<TumListEntry> parseTumList(std::istream& in, const std::string& sourceName)
+std::vector<TumListEntry> parseTumList(std::istream& in, const std::string& sourceName,
+                                       std::vector<std::string>* badLines)
 {
     std::vector<TumListEntry> out;
     forEachDataLine(
-        in,
+        in, badLines,
         [&](const std::vector<std::string>& f, size_t line)
         {
             if (f.size() != 2)
@@ -108,11 +121,12 @@ std::vector<TumListEntry> parseTumList(std::istream& in, const std::string& sour
 }
 
 std::vector<TumAssociationEntry> parseTumAssociations(std::istream& in,
-                                                      const std::string& sourceName)
+                                                      const std::string& sourceName,
+                                                      std::vector<std::string>* badLines)
 {
     std::vector<TumAssociationEntry> out;
     forEachDataLine(
-        in,
+        in, badLines,
         [&](const std::vector<std::string>& f, size_t line)
         {
             if (f.size() != 4)
@@ -138,7 +152,7 @@ core::Trajectory parseTumTrajectory(std::istream& in, const std::string& sourceN
 {
     core::Trajectory out;
     forEachDataLine(
-        in,
+        in, nullptr,
         [&](const std::vector<std::string>& f, size_t line)
         {
             if (f.size() != 8)
@@ -168,16 +182,17 @@ core::Trajectory parseTumTrajectory(std::istream& in, const std::string& sourceN
     return out;
 }
 
-std::vector<TumListEntry> readTumList(const std::string& path)
+std::vector<TumListEntry> readTumList(const std::string& path, std::vector<std::string>* badLines)
 {
     auto f = openOrThrow(path);
-    return parseTumList(f, path);
+    return parseTumList(f, path, badLines);
 }
 
-std::vector<TumAssociationEntry> readTumAssociations(const std::string& path)
+std::vector<TumAssociationEntry> readTumAssociations(const std::string& path,
+                                                     std::vector<std::string>* badLines)
 {
     auto f = openOrThrow(path);
-    return parseTumAssociations(f, path);
+    return parseTumAssociations(f, path, badLines);
 }
 
 core::Trajectory readTumTrajectory(const std::string& path)

@@ -76,14 +76,20 @@ std::optional<FrameFeeder::Raw> FrameFeeder::read()
     if (stop_ && stop_())
         return std::nullopt;
     const auto t0 = std::chrono::steady_clock::now();
-    auto frame = source_.next();
-    if (!frame)
+    auto got = source_.read();
+    if (!got)
         return std::nullopt;
-    frame->validate();
     Raw r;
     r.index = nextIndex_++;
-    r.stats = computeFrameStats(*frame);
-    r.frame = std::move(*frame);
+    if (auto* skipped = std::get_if<io::SkippedFrame>(&*got))
+    {
+        r.skipped = std::move(*skipped);
+        return r;
+    }
+    auto& frame = std::get<core::RgbdFrame>(*got);
+    frame.validate();
+    r.stats = computeFrameStats(frame);
+    r.frame = std::move(frame);
     const double ms = core::millisecondsSince(t0);
     std::lock_guard<std::mutex> lock(mutex_);
     readMs_.push_back(ms);
@@ -94,6 +100,9 @@ FrameFeeder::Item FrameFeeder::prepare(const Raw& raw)
 {
     Item item;
     item.index = raw.index;
+    item.skipped = raw.skipped;
+    if (item.skipped)
+        return item;
     item.stats = raw.stats;
     item.frame = mapper_.prepare(raw.frame);
     if (onPrepared_)

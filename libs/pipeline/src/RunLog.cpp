@@ -84,14 +84,44 @@ std::string RunLog::trackingDiagnosis(double minDepth, double maxDepth) const
     return mrpt::format("only %zu of %zu frames have a pose: %s", withPose_, n, why.c_str());
 }
 
+namespace
+{
+/// A CSV field in double quotes (inner quotes doubled), so that commas in paths survive.
+std::string quoted(const std::string& text)
+{
+    std::string q = "\"";
+    for (const char c : text)
+        q += c == '"' ? std::string("\"\"") : std::string(1, c);
+    return q + "\"";
+}
+
+std::string skippedCsvRow(const io::SkippedFrame& s)
+{
+    FrameStats stats;
+    stats.index = s.index;
+    stats.timestamp = s.timestamp;
+    stats.name = s.name;
+    return toCsvRow(stats) + ",skipped,0,0,0,0,0,0,0,0,0,0," + quoted(s.file + ": " + s.reason) +
+           "\n";
+}
+}  // namespace
+
+void RunLog::addSkipped(const io::SkippedFrame& frame)
+{
+    skipped_.push_back(frame);
+}
+
 std::string RunLog::framesCsv() const
 {
     std::string csv = frameStatsCsvHeader() +
                       ",status,keypoints,inliers,keyframe,extraction_ms,matching_ms,"
                       "optimisation_ms,tracking_ms,dynamic_keypoints,dynamic_filter_ms,"
-                      "keyframe_queue_wait_ms\n";
+                      "keyframe_queue_wait_ms,note\n";
+    auto nextSkipped = skipped_.begin();
     for (const auto& r : rows_)
     {
+        for (; nextSkipped != skipped_.end() && nextSkipped->index < r.stats.index; ++nextSkipped)
+            csv += skippedCsvRow(*nextSkipped);
         const auto& t = r.result.tracking;
         csv += toCsvRow(r.stats) + "," + slam::toString(t.status) + "," +
                std::to_string(t.keypoints) + "," + std::to_string(t.inliers) + "," +
@@ -99,8 +129,10 @@ std::string RunLog::framesCsv() const
                mrpt::format("%.3f,%.3f,%.3f,%.3f", t.timings.extraction_ms, t.timings.matching_ms,
                             t.timings.optimisation_ms, t.timings.total_ms) +
                "," + std::to_string(r.result.dynamicKeypoints) + "," +
-               mrpt::format("%.3f,%.3f\n", r.result.dynamicMs, r.result.queueWaitMs);
+               mrpt::format("%.3f,%.3f,\n", r.result.dynamicMs, r.result.queueWaitMs);
     }
+    for (; nextSkipped != skipped_.end(); ++nextSkipped)
+        csv += skippedCsvRow(*nextSkipped);
     return csv;
 }
 
@@ -108,6 +140,18 @@ void RunLog::describeInput(core::JsonValue& metrics) const
 {
     const size_t n = rows_.size();
     metrics.set("frames", static_cast<uint64_t>(n));
+    metrics.set("frames_skipped", static_cast<uint64_t>(skipped_.size()));
+    auto list = core::JsonValue::array();
+    constexpr size_t kListed = 20;
+    for (size_t i = 0; i < skipped_.size() && i < kListed; i++)
+    {
+        auto s = core::JsonValue::object();
+        s.set("index", static_cast<uint64_t>(skipped_[i].index))
+            .set("file", skipped_[i].file)
+            .set("reason", skipped_[i].reason);
+        list.push(s);
+    }
+    metrics.set("skipped", list);
     metrics.set("duration_s", lastStamp_ - firstStamp_);
     metrics.set("mean_valid_depth_fraction", n ? sumValidDepth_ / static_cast<double>(n) : 0.0);
     auto cam = core::JsonValue::object();

@@ -14,6 +14,7 @@
 #include <thread>
 
 #include "smap/core/AtomicFile.h"
+#include "smap/core/DataDirectory.h"
 #include "smap/core/Elapsed.h"
 #include "smap/core/InputError.h"
 #include "smap/core/JsonWriter.h"
@@ -97,6 +98,18 @@ core::JsonValue evaluateTrajectory(const std::string& groundTruth,
     return ev;
 }
 
+/// Stops a run whose first frames are all unreadable (the wrong folder, a camera that does not
+/// fit the images): nothing after them is likely to be readable either.
+void requireReadableStart(const RunLog& log, const std::string& input)
+{
+    constexpr size_t kUnreadableStart = 50;
+    if (log.frames() == 0 && log.skipped() >= kUnreadableStart)
+        throw core::InputError(mrpt::format(
+            "the first %zu frames of '%s' could not be read (the first: '%s': %s); stopped",
+            log.skipped(), input.c_str(), log.firstSkipped().file.c_str(),
+            log.firstSkipped().reason.c_str()));
+}
+
 double peakMemoryMiB()
 {
     rusage u{};
@@ -117,20 +130,7 @@ SemanticMapperApp::SemanticMapperApp() : COutputLogger("semantic-mapper") {}
 
 std::string SemanticMapperApp::defaultInput()
 {
-#ifdef SMAP_DEFAULT_INPUT
-    return SMAP_DEFAULT_INPUT;
-#else
-    return {};
-#endif
-}
-
-std::string SemanticMapperApp::defaultModel()
-{
-#ifdef SMAP_DEFAULT_MODEL
-    return SMAP_DEFAULT_MODEL;
-#else
-    return {};
-#endif
+    return core::findDataFile("rawlogs/sample_walking_xyz.rawlog");
 }
 
 std::string SemanticMapperApp::configurationReference()
@@ -215,7 +215,9 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
     const std::string input = cl.positionals().empty() ? defaultInput() : cl.positionals()[0];
     if (input.empty())
         throw core::InputError(
-            "no INPUT given and no embedded default recording was found at build time");
+            "no INPUT given and the embedded sample recording is missing from the data folder " +
+            core::dataDirectory() + " (rawlogs/sample_walking_xyz.rawlog; see " +
+            core::kDataDirectoryVariable + " in docs/pipeline.md)");
     const std::string outDir = cl.value("out").value_or("smap-out");
     const FrameSelection debugFrames =
         cl.has("dynamic-debug") ? FrameSelection::parse(*cl.value("dynamic-debug"), "dynamic-debug")
@@ -230,18 +232,13 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
         loadAppConfiguration(cl, parts, input, *this);
     }
     auto& seg = params.segmentation;
-    if (seg.backend == "onnx" && seg.onnx.model.empty())
+    if (!useShippedModelIfUnset(seg))
     {
-        if (!defaultModel().empty() && fs::exists(defaultModel()))
-            seg.onnx.model = defaultModel();
-        else
-        {
-            MRPT_LOG_WARN_STREAM("no segmentation model configured and the default "
-                                 << (defaultModel().empty() ? "(none)" : defaultModel())
-                                 << " does not exist: keyframes are not segmented "
-                                    "([segmentation] backend = none)");
-            seg.backend = "none";
-        }
+        MRPT_LOG_WARN_STREAM("no segmentation model configured and the shipped model "
+                             << shippedModelPath()
+                             << " does not exist (a broken installation?): keyframes are not "
+                                "segmented ([segmentation] backend = none)");
+        seg.backend = "none";
     }
 
     const std::string gtPath = cl.value("gt").value_or("");
@@ -321,6 +318,12 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
     {
         while (auto item = feeder.next())
         {
+            if (item->skipped)
+            {
+                log.addSkipped(*item->skipped);
+                requireReadableStart(log, input);
+                continue;
+            }
             const double stamp = item->frame.rgbd.timestamp;
             const core::PinholeCamera camera = item->frame.rgbd.camera;
             log.add(item->stats, stamp, camera, mapper.track(std::move(item->frame)));
@@ -343,6 +346,10 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
             "writing the outputs (Ctrl-C again to abort)",
             log.frames());
     const double trackingWallS = core::secondsSince(tStart);
+    if (log.frames() == 0 && log.skipped() > 0)
+        throw core::InputError(mrpt::format(
+            "none of the %zu frames of '%s' could be read (the first: '%s': %s)", log.skipped(),
+            input.c_str(), log.firstSkipped().file.c_str(), log.firstSkipped().reason.c_str()));
 
     // Drain the worker, re-anchor, write.
     const auto tFinish = std::chrono::steady_clock::now();
@@ -394,6 +401,7 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
     metrics.set("input", fs::absolute(input).string()).set("source", source->description());
     metrics.set("interrupted", interrupted);
     log.describeInput(metrics);
+    metrics.set("input_ended_early", source->endedEarly());
     auto tracking = log.trackingJson();
     tracking.set("keyframes", static_cast<uint64_t>(mapper.slam().numKeyFrames()))
         .set("keyframes_culled", static_cast<uint64_t>(ms.keyframesCulled))
@@ -472,6 +480,7 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
         !diagnosis.empty())
         MRPT_LOG_WARN(diagnosis);
     result_ = {n, ws.keyframes, interrupted, outDir, input};
+    const size_t framesRead = n + log.skipped();
     MRPT_LOG_INFO_FMT(
         "%zu frames in %.2f s (%.1f frames/s): %zu with a pose, %zu lost, %zu keyframes mapped, "
         "%zu map points",
@@ -483,6 +492,21 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
         << "/:\n";
     for (const auto& f : files)
         out << "  " << f << "\n";
+    if (log.skipped() > 0)
+    {
+        MRPT_LOG_WARN_FMT(
+            "%zu of %zu frames skipped (unreadable; frames.csv and metrics.json "
+            "list them), the first: '%s': %s",
+            log.skipped(), framesRead, log.firstSkipped().file.c_str(),
+            log.firstSkipped().reason.c_str());
+    }
+    if (static_cast<double>(log.skipped()) >
+        sourceParams.max_skipped_fraction * static_cast<double>(framesRead))
+        throw core::InputError(mrpt::format(
+            "%zu of the %zu frames of '%s' could not be read, more than [input] "
+            "max_skipped_fraction = %g: the outputs cover the %zu readable frames, but the "
+            "recording is damaged",
+            log.skipped(), framesRead, input.c_str(), sourceParams.max_skipped_fraction, n));
     return interrupted ? kExitInterrupted : kExitOk;
 }
 }  // namespace smap::pipeline

@@ -15,6 +15,7 @@
 #include "smap/pipeline/CommandLine.h"
 #include "smap/pipeline/SyntheticSequenceWriter.h"
 #include "smap/sim/PeopleCompositor.h"
+#include "smap/sim/PersonSprite.h"
 
 namespace fs = std::filesystem;
 
@@ -91,11 +92,13 @@ core::PinholeCamera compositeOnto(const CommandLine& cl, size_t frames, uint32_t
     {
         const size_t step = std::max<size_t>(1, frames / 8);
         size_t next = 0, entry = 0;
-        while (auto f = source.next())
+        while (auto r = source.read())
         {
+            const auto* f = std::get_if<core::RgbdFrame>(&*r);
             if (next < frames && entry == matches[next].first)
             {
-                probes.push_back({*f, gt[matches[next].second].T_world_cam});
+                if (f != nullptr)  // an unreadable frame is no probe
+                    probes.push_back({*f, gt[matches[next].second].T_world_cam});
                 next += step;
             }
             if (next >= frames)
@@ -103,8 +106,10 @@ core::PinholeCamera compositeOnto(const CommandLine& cl, size_t frames, uint32_t
             entry++;
         }
     }
-    const sim::PeopleCompositor compositor(sim::loadPeopleSprites(*peopleDir), gt, probes,
-                                           static_cast<size_t>(count), seed);
+    std::vector<cv::Mat> sprites;
+    for (auto& s : sim::loadPersonSprites(*peopleDir))
+        sprites.push_back(std::move(s.image));
+    const sim::PeopleCompositor compositor(sprites, gt, probes, static_cast<size_t>(count), seed);
     if (compositor.freeSpaceViolations() > 0)
         log.logFmt(mrpt::system::LVL_WARN,
                    "compositing: of %zu body samples of the people, %zu lie within 20 cm of an "
@@ -118,12 +123,17 @@ core::PinholeCamera compositeOnto(const CommandLine& cl, size_t frames, uint32_t
     auto produce = [&](size_t i)
     {
         const auto& m = matches[i];
-        std::optional<core::RgbdFrame> f;
+        std::optional<io::FrameRead> r;
         while (cursor <= m.first)
         {
-            f = frameSource.next();
+            r = frameSource.read();
             cursor++;
         }
+        const auto* f = r ? std::get_if<core::RgbdFrame>(&*r) : nullptr;
+        if (f == nullptr)  // every composite frame needs its real frame
+            throw core::InputError(mrpt::format(
+                "--composite-onto: frame %zu of '%s' cannot be read (see the warning above)",
+                m.first, folder.c_str()));
         const auto& T = gt[m.second].T_world_cam;
         const sim::CompositeFrame c = compositor.composite(*f, T, f->timestamp - t0);
         sim::SyntheticFrame out;

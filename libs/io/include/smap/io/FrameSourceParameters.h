@@ -1,6 +1,7 @@
 // Options of every frame source, loaded once from the configuration.
 //
-// [input]   max_frames (0 = all), stride (every Nth frame)
+// [input]   max_frames (0 = all), stride (every Nth frame), max_skipped_fraction (more frames
+//           unreadable than this fraction make a run bad input)
 // [tum]     depth_factor (raw units per metre: TUM 5000, 7-Scenes 1000), max_dt (s),
 //           use_associations (use associations.txt when present)
 // [rawlog]  sensor_label (empty: the first RGB-D sensor seen)
@@ -23,6 +24,9 @@ struct FrameSourceParameters : public mrpt::config::CLoadableOptions
 {
     size_t max_frames = 0;
     size_t stride = 1;
+    /// Unreadable frames are skipped; more than this fraction of them (0 - 1) makes the run
+    /// bad input (semantic-mapper writes its outputs, then exits with 2).
+    double max_skipped_fraction = 0.5;
 
     double tum_depth_factor = 5000.0;
     double tum_max_dt = 0.02;

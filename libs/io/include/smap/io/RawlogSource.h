@@ -21,9 +21,14 @@ public:
     RawlogSource(const std::string& path, const FrameSourceParameters& params);
     ~RawlogSource() override;
 
-    /// Throws core::InputError when the rawlog is corrupt, or ends without having held any
-    /// usable RGB-D observation (the message lists the classes it did contain).
-    std::optional<core::RgbdFrame> next() override;
+    /// An observation whose images cannot be used (a missing or damaged external image, no
+    /// valid depth, bad intrinsics) is a skipped frame. Damage in the file itself (a recording
+    /// cut short mid-entry, corrupt bytes) ends the input there with a warning naming the
+    /// rawlog and the entry (endedEarly() says the same). Throws core::InputError when not even
+    /// the first entry can be read (not a rawlog), or when the rawlog ends without having held
+    /// any usable RGB-D observation (the message lists the classes it did contain).
+    std::optional<FrameRead> read() override;
+    std::string endedEarly() const override;
     std::string description() const override;
     std::string groundTruthPath() const override;
 

@@ -15,10 +15,14 @@ namespace smap::io
 class TumSource : public FrameSource
 {
 public:
-    /// Reads the lists (not the images); throws core::InputError on missing or malformed lists.
+    /// Reads the lists (not the images). A malformed list line is warned about (naming the list
+    /// and line) and left out; a missing list, or one without any frame, throws
+    /// core::InputError naming it.
     TumSource(const std::string& folder, const FrameSourceParameters& params);
 
-    std::optional<core::RgbdFrame> next() override;
+    /// A frame whose colour or depth image is missing, empty, undecodable, of the wrong size
+    /// or type, or without any valid depth is skipped (and warned about).
+    std::optional<FrameRead> read() override;
     std::string description() const override;
     std::optional<size_t> sizeHint() const override { return entries_.size(); }
     std::string groundTruthPath() const override;
@@ -28,16 +32,27 @@ public:
     const core::PinholeCamera& camera() const { return camera_; }
     const std::string& folder() const { return folder_; }
 
-    /// Raw 16-bit depth of entry `i` exactly as stored in its PNG (for converters).
+    /// Raw 16-bit depth of entry `i` exactly as stored in its PNG (for converters); throws
+    /// core::InputError naming the image when it cannot be used.
     cv::Mat readRawDepth(size_t i) const;
     std::string absolutePath(const std::string& relative) const;
+    /// Malformed lines left out of the lists.
+    size_t badListLines() const { return badListLines_; }
 
 private:
+    void readAssociations(const std::string& assocPath);
+    void associateLists();
+    void warnBadLines(const std::vector<std::string>& badLines);
+    /// The 16-bit depth PNG at `path` into `raw`, or why it cannot be used.
+    std::optional<std::string> readDepthImage(const std::string& path, cv::Mat& raw) const;
+    void checkDepthScaleOnce(const cv::Mat& depth, const std::string& depthPath);
+
     std::string folder_;
     FrameSourceParameters params_;
     core::PinholeCamera camera_;
     std::vector<TumAssociationEntry> entries_;
     size_t cursor_ = 0;
+    size_t badListLines_ = 0;
     bool depthScaleChecked_ = false;  ///< the first frame with enough depth was checked
 };
 

@@ -29,14 +29,20 @@ struct TumAssociationEntry
     size_t line = 0;
 };
 
-std::vector<TumListEntry> parseTumList(std::istream& in, const std::string& sourceName);
+/// With `badLines`, a malformed line is appended there ("SOURCE:LINE: what") and left out
+/// instead of throwing (image lists tolerate a garbage line; trajectories never do).
+std::vector<TumListEntry> parseTumList(std::istream& in, const std::string& sourceName,
+                                       std::vector<std::string>* badLines = nullptr);
 std::vector<TumAssociationEntry> parseTumAssociations(std::istream& in,
-                                                      const std::string& sourceName);
+                                                      const std::string& sourceName,
+                                                      std::vector<std::string>* badLines = nullptr);
 core::Trajectory parseTumTrajectory(std::istream& in, const std::string& sourceName);
 
 /// File versions: throw InputError when the file cannot be opened.
-std::vector<TumListEntry> readTumList(const std::string& path);
-std::vector<TumAssociationEntry> readTumAssociations(const std::string& path);
+std::vector<TumListEntry> readTumList(const std::string& path,
+                                      std::vector<std::string>* badLines = nullptr);
+std::vector<TumAssociationEntry> readTumAssociations(const std::string& path,
+                                                     std::vector<std::string>* badLines = nullptr);
 core::Trajectory readTumTrajectory(const std::string& path);
 
 /// One "timestamp tx ty tz qx qy qz qw" line per pose, every number at round-trip precision,

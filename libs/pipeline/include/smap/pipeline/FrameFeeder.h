@@ -25,6 +25,8 @@ public:
     struct Item
     {
         size_t index = 0;  ///< 0-based position in the stream
+        /// Set for a frame of the input that could not be read; `stats` and `frame` are empty.
+        std::optional<io::SkippedFrame> skipped;
         FrameStats stats;
         SemanticMapper::PreparedFrame frame;
     };
@@ -36,8 +38,9 @@ public:
     FrameFeeder(const FrameFeeder&) = delete;
     FrameFeeder& operator=(const FrameFeeder&) = delete;
 
-    /// The next prepared frame; nullopt at the end of the input or after `stop`. A failure of
-    /// either thread (bad data) is rethrown here once the frames before it are consumed.
+    /// The next prepared (or skipped) frame; nullopt at the end of the input or after `stop`.
+    /// A failure of either thread (input that is no recording, an internal error) is rethrown
+    /// here once the frames before it are consumed.
     std::optional<Item> next();
     /// Stops reading and joins the threads (also done by the destructor).
     void close();
@@ -49,6 +52,7 @@ private:
     struct Raw
     {
         size_t index = 0;
+        std::optional<io::SkippedFrame> skipped;
         FrameStats stats;
         core::RgbdFrame frame;
     };

@@ -7,6 +7,7 @@
 
 #include "smap/core/JsonWriter.h"
 #include "smap/core/PinholeCamera.h"
+#include "smap/io/FrameSource.h"
 #include "smap/pipeline/FrameSummary.h"
 #include "smap/pipeline/SemanticMapper.h"
 
@@ -21,13 +22,23 @@ public:
     void add(const FrameStats& stats, double timestamp, const core::PinholeCamera& camera,
              const SemanticMapper::FrameResult& result);
 
+    /// A frame of the input that could not be read.
+    void addSkipped(const io::SkippedFrame& frame);
+
+    /// Frames read and processed (skipped ones not included).
     size_t frames() const { return rows_.size(); }
+    size_t skipped() const { return skipped_.size(); }
+    /// The first skipped frame (skipped() > 0).
+    const io::SkippedFrame& firstSkipped() const { return skipped_.front(); }
     size_t withPose() const { return withPose_; }
     size_t lost() const { return lost_; }
 
-    /// frames.csv: the frame statistics, then status, keypoints, inliers, keyframe, timings.
+    /// frames.csv: the frame statistics, then status, keypoints, inliers, keyframe, timings,
+    /// and a note: every frame of the input in order, a skipped one with status `skipped`, no
+    /// figures and the file and reason in its note.
     std::string framesCsv() const;
-    /// Sets "frames", "duration_s", "mean_valid_depth_fraction" and "camera" in `metrics`.
+    /// Sets "frames", "frames_skipped", "skipped" (the first 20: index, file, reason),
+    /// "duration_s", "mean_valid_depth_fraction" and "camera" in `metrics`.
     void describeInput(core::JsonValue& metrics) const;
     /// frames_with_pose, frames_lost, relocalisations, reanchors.
     core::JsonValue trackingJson() const;
@@ -46,6 +57,7 @@ private:
         SemanticMapper::FrameResult result;
     };
     std::vector<Row> rows_;
+    std::vector<io::SkippedFrame> skipped_;
     size_t withPose_ = 0, lost_ = 0, relocalised_ = 0, reanchored_ = 0;
     double firstStamp_ = 0.0, lastStamp_ = 0.0, sumValidDepth_ = 0.0;
     core::PinholeCamera camera_;
