@@ -10,39 +10,54 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <iostream>
 #include <string>
 #include <vector>
 
 #include "BenchStats.h"
+#include "smap/core/InputError.h"
 #include "smap/core/TrackedConfig.h"
 #include "smap/io/FrameSource.h"
+#include "smap/pipeline/AppMain.h"
+#include "smap/pipeline/CommandLine.h"
 #include "smap/slam/RgbdSlam.h"
 
 using namespace smap;
 using smap::bench::median;
 using smap::bench::quantile;
 
-int main(int argc, char** argv)
+namespace
 {
-    std::string input = std::string(SMAP_SHARED_DIR) + "/data/7scenes-redkitchen";
-    std::string config = std::string(SMAP_SOURCE_DIR) + "/config/7scenes.ini";
-    int runs = 3;
-    size_t maxFrames = 0;
-    bool sync = false;
-    for (int i = 1; i < argc; ++i)
+const char* const kUsage =
+    "Usage: bench_tracking [TUM_DIR|RAWLOG] [--config FILE] [--runs N] [--max-frames N] [--sync]\n"
+    "\n"
+    "Times tracking (ORB extraction, matching, pose optimisation; local mapping in its own\n"
+    "thread unless --sync) over a whole recording, --runs times (default 3), and prints the\n"
+    "median per-frame times and frames/s. Defaults: ../shared/data/7scenes-redkitchen with\n"
+    "config/7scenes.ini. Exit codes: 0 ok, 1 internal error, 2 bad input.\n";
+
+int run(const std::vector<std::string>& args)
+{
+    pipeline::CommandLine cl;  // strict: an unknown option is an error, not an input path
+    cl.option("config").option("runs").option("max-frames").flag("sync").flag("help");
+    cl.parse(args);
+    if (cl.has("help"))
     {
-        const std::string a = argv[i];
-        if (a == "--config" && i + 1 < argc)
-            config = argv[++i];
-        else if (a == "--runs" && i + 1 < argc)
-            runs = std::stoi(argv[++i]);
-        else if (a == "--max-frames" && i + 1 < argc)
-            maxFrames = std::stoul(argv[++i]);
-        else if (a == "--sync")
-            sync = true;
-        else
-            input = a;
+        std::cout << kUsage;
+        return pipeline::kExitOk;
     }
+    if (cl.positionals().size() > 1)
+        throw core::InputError("bench_tracking takes at most one input (see --help)");
+    const std::string input = cl.positionals().empty()
+                                  ? std::string(SMAP_SHARED_DIR) + "/data/7scenes-redkitchen"
+                                  : cl.positionals()[0];
+    const std::string config =
+        cl.value("config").value_or(std::string(SMAP_SOURCE_DIR) + "/config/7scenes.ini");
+    const int runs = static_cast<int>(cl.integer("runs", 3));
+    const long maxFrames = cl.integer("max-frames", 0);
+    const bool sync = cl.has("sync");
+    if (runs < 1 || maxFrames < 0)
+        throw core::InputError("--runs must be >= 1 and --max-frames >= 0");
     core::TrackedConfig cfg;
     cfg.loadFile(config);
     io::FrameSourceParameters sp;
@@ -53,7 +68,7 @@ int main(int argc, char** argv)
     cfg.load(orb);
     cfg.load(tp);
     cfg.load(mp);
-    sp.max_frames = maxFrames;
+    sp.max_frames = static_cast<size_t>(maxFrames);
     mp.threaded = !sync;
 
     std::vector<double> runFps, runTrack, runExtract, runMatch, runOpt, runTotal;
@@ -99,5 +114,14 @@ int main(int argc, char** argv)
         "ms, extraction + tracking %.2f ms\n",
         runs, median(runFps), median(runExtract), median(runMatch), median(runOpt),
         median(runTrack), median(runTotal));
-    return 0;
+    return pipeline::kExitOk;
+}
+}  // namespace
+
+int main(int argc, char** argv)
+{
+    return smap::pipeline::runGuarded("bench_tracking", std::cerr,
+                                      [&] {
+                                          return run({argv + 1, argv + argc});
+                                      });
 }

@@ -21,6 +21,7 @@
 #include <cmath>
 #include <cstdio>
 #include <exception>
+#include <iostream>
 #include <map>
 #include <opencv2/imgcodecs.hpp>
 #include <string>
@@ -35,6 +36,7 @@
 #include "smap/maps/CSemanticOctoMap.h"
 #include "smap/maps/CSemanticPointsMap.h"
 #include "smap/maps/MapSnapshot.h"
+#include "smap/pipeline/AppMain.h"
 #include "smap/pipeline/CommandLine.h"
 #include "smap/segmentation/SegmentationParameters.h"
 #include "smap/sim/SequenceGenerator.h"
@@ -64,13 +66,27 @@ struct Result
 };
 }  // namespace
 
+const char* const kUsage =
+    "Usage: eval_maps [--preset walking_xyz] [--frames 150] [--every 5] [--noise-free]\n"
+    "                 [--espnet MODEL.onnx] [--snapshots DIR] [--grow-pixels N]\n"
+    "\n"
+    "Fills both semantic maps from a rendered sequence with full ground truth (ground-truth\n"
+    "poses; labels from the ground truth or, with --espnet, ESPNetv2 + dense CRF), with and\n"
+    "without Algorithm 1, and prints label accuracy, people left in the map, geometry,\n"
+    "insertion time and memory. Exit codes: 0 ok, 1 internal error, 2 bad input.\n";
+
 int run(int argc, char** argv)
 {
     pipeline::CommandLine cl;
     cl.option("preset").option("frames").option("every").option("snapshots").option("espnet");
     cl.option("grow-pixels");
-    cl.flag("noise-free");
+    cl.flag("noise-free").flag("help");
     cl.parse(std::vector<std::string>(argv + 1, argv + argc));
+    if (cl.has("help"))
+    {
+        std::fputs(kUsage, stdout);
+        return 0;
+    }
     sim::GeneratorOptions o;
     o.preset = cl.value("preset").value_or("walking_xyz");
     o.noiseFreeDepth = cl.has("noise-free");
@@ -257,13 +273,5 @@ int run(int argc, char** argv)
 
 int main(int argc, char** argv)
 {
-    try
-    {
-        return run(argc, argv);
-    }
-    catch (const std::exception& e)
-    {
-        std::fprintf(stderr, "eval_maps: %s\n", e.what());
-        return 2;
-    }
+    return smap::pipeline::runGuarded("eval_maps", std::cerr, [&] { return run(argc, argv); });
 }
