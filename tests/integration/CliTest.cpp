@@ -130,3 +130,32 @@ TEST(Cli, BadInputExitsWithCodeTwoAndNamesTheProblem)
     EXPECT_EQ(r.code, 0);
     EXPECT_NE(r.output.find("smap-eval ate GT EST"), std::string::npos);
 }
+
+// Every command and every benchmark program prints its usage on --help and exits with 0 (the
+// Google Benchmark ones print the library's usage); none ends in std::terminate.
+TEST(Cli, EveryProgramPrintsItsUsageOnHelp)
+{
+    std::vector<std::string> programs = {"semantic-mapper", "tum2rawlog", "smap-eval",
+                                         "smap-segment", "smap-synth"};
+    // Benchmarks are built only where Google Benchmark is installed.
+    for (const char* b : {"bench_tracking", "bench_dynamic", "eval_maps", "bench_io", "bench_sim",
+                          "bench_features", "bench_segmentation"})
+        if (std::filesystem::exists(bin(b)))
+            programs.emplace_back(b);
+    for (const auto& name : programs)
+    {
+        const CmdResult r = run(bin(name) + " --help");
+        EXPECT_EQ(r.code, 0) << name << "\n" << r.output;
+        const bool usage = r.output.find("Usage") != std::string::npos ||
+                           r.output.find("--benchmark_filter") != std::string::npos;
+        EXPECT_TRUE(usage) << name << "\n" << r.output;
+        EXPECT_EQ(r.output.find("terminate"), std::string::npos) << name;
+    }
+    // A wrong option is bad input, said in one line, not an abort.
+    if (std::filesystem::exists(bin("bench_tracking")))
+    {
+        const CmdResult bad = run(bin("bench_tracking") + " --no-such-option");
+        EXPECT_EQ(bad.code, 2) << bad.output;
+        EXPECT_NE(bad.output.find("unknown option '--no-such-option'"), std::string::npos);
+    }
+}
