@@ -22,7 +22,7 @@ out_md="${SMAP_RESULTS_OUT:-$root/docs/results.md}"
 speed_runs="${SMAP_RESULTS_SPEED_RUNS:-3}"
 mkdir -p "$cache"
 seven="$shared/data/7scenes-redkitchen"
-model="$shared/models/espnetv2-voc/espnetv2_s2.0_voc_320x240.onnx"
+model="$root/models/espnetv2-voc/espnetv2_s2.0_voc_320x240.onnx"  # the shipped model, the default
 [ -f "$model" ] || { echo "results.sh: the ESPNetv2 model is missing: $model" >&2; exit 2; }
 
 list="$cache/results-runs.txt"
