@@ -4,7 +4,6 @@
 
 #include <filesystem>
 #include <fstream>
-#include <iterator>
 #include <opencv2/imgcodecs.hpp>
 #include <system_error>
 
@@ -90,9 +89,10 @@ ImageFileRead readImageFile(const std::string& path, int flags, const cv::Size& 
         r.problem = "missing";
         return r;
     }
-    std::ifstream in(path, std::ios::binary);
-    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    if (!in.good() && !in.eof())
+    std::ifstream in(path, std::ios::binary | std::ios::ate);
+    const std::streamoff size = in ? static_cast<std::streamoff>(in.tellg()) : -1;
+    std::string bytes(size > 0 ? static_cast<size_t>(size) : 0, '\0');
+    if (size < 0 || !in.seekg(0) || !in.read(bytes.data(), size))
     {
         r.problem = "cannot be read";
         return r;
