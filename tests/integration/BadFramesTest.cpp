@@ -175,70 +175,67 @@ void writeBytes(const std::string& path, const std::string& bytes)
 {
     std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
 }
+
+enum class Image
+{
+    Colour,
+    Depth
+};
+
+/// Damages one image of frame `index` in a copy of the folder with `damage`, runs the mapper and
+/// checks that exactly that frame is skipped, with the file and `reason` in frames.csv.
+void expectOneImageSkipped(Image which, int index,
+                           const std::function<void(const std::string&)>& damage,
+                           const std::string& reason)
+{
+    smap::test::TempDir dir;
+    std::string file;
+    const auto folder = damagedCopy(dir,
+                                    [&](const std::string& f)
+                                    {
+                                        const auto images = imagesOf(f, index);
+                                        file =
+                                            which == Image::Colour ? images.first : images.second;
+                                        damage(file);
+                                    });
+    const auto o = runMapper(dir, folder);
+    expectSkippedAndTracked(o, 1, file);
+    EXPECT_NE(o.frames.find(file + ": " + reason), std::string::npos) << o.frames;
+}
 }  // namespace
 
 TEST(BadFrames, MissingColourImageIsSkipped)
 {
-    smap::test::TempDir dir;
-    std::string rgb;
-    const auto folder = damagedCopy(dir,
-                                    [&](const std::string& f)
-                                    {
-                                        rgb = imagesOf(f, 10).first;
-                                        fs::remove(rgb);
-                                    });
-    const auto o = runMapper(dir, folder);
-    expectSkippedAndTracked(o, 1, rgb);
-    EXPECT_NE(o.frames.find(rgb + ": colour image missing"), std::string::npos) << o.frames;
+    expectOneImageSkipped(
+        Image::Colour, 10, [](const std::string& rgb) { fs::remove(rgb); }, "colour image missing");
 }
 
 TEST(BadFrames, TruncatedDepthPngIsSkipped)
 {
-    smap::test::TempDir dir;
-    std::string depth;
-    const auto folder = damagedCopy(dir,
-                                    [&](const std::string& f)
-                                    {
-                                        depth = imagesOf(f, 12).second;
-                                        fs::resize_file(depth, 300);
-                                    });
-    const auto o = runMapper(dir, folder);
-    expectSkippedAndTracked(o, 1, depth);
-    EXPECT_NE(o.frames.find(depth + ": depth image cannot be decoded"), std::string::npos);
+    expectOneImageSkipped(
+        Image::Depth, 12, [](const std::string& depth) { fs::resize_file(depth, 300); },
+        "depth image cannot be decoded");
 }
 
 TEST(BadFrames, ZeroByteColourFileIsSkipped)
 {
-    smap::test::TempDir dir;
-    std::string rgb;
-    const auto folder = damagedCopy(dir,
-                                    [&](const std::string& f)
-                                    {
-                                        rgb = imagesOf(f, 14).first;
-                                        fs::resize_file(rgb, 0);
-                                    });
-    const auto o = runMapper(dir, folder);
-    expectSkippedAndTracked(o, 1, rgb);
-    EXPECT_NE(o.frames.find(rgb + ": colour image empty (0 bytes)"), std::string::npos);
+    expectOneImageSkipped(
+        Image::Colour, 14, [](const std::string& rgb) { fs::resize_file(rgb, 0); },
+        "colour image empty (0 bytes)");
 }
 
 TEST(BadFrames, DepthImageOfTheWrongSizeIsSkipped)
 {
-    smap::test::TempDir dir;
-    std::string depth;
-    const auto folder =
-        damagedCopy(dir,
-                    [&](const std::string& f)
-                    {
-                        depth = imagesOf(f, 16).second;
-                        const cv::Mat d = cv::imread(depth, cv::IMREAD_UNCHANGED);
-                        cv::Mat half;
-                        cv::resize(d, half, {d.cols / 2, d.rows / 2}, 0, 0, cv::INTER_NEAREST);
-                        ASSERT_TRUE(cv::imwrite(depth, half));
-                    });
-    const auto o = runMapper(dir, folder);
-    expectSkippedAndTracked(o, 1, depth);
-    EXPECT_NE(o.frames.find(depth + ": depth image is "), std::string::npos) << o.frames;
+    expectOneImageSkipped(
+        Image::Depth, 16,
+        [](const std::string& depth)
+        {
+            const cv::Mat d = cv::imread(depth, cv::IMREAD_UNCHANGED);
+            cv::Mat half;
+            cv::resize(d, half, {d.cols / 2, d.rows / 2}, 0, 0, cv::INTER_NEAREST);
+            ASSERT_TRUE(cv::imwrite(depth, half));
+        },
+        "depth image is ");
 }
 
 TEST(BadFrames, AllZeroDepthFramesAreSkipped)
