@@ -112,6 +112,7 @@ ImageFileRead readImageFile(const std::string& path, int flags, const cv::Size& 
     {
         r.problem = mrpt::format("is %s, expected %dx%d", describeSize(*header).c_str(),
                                  expected.width, expected.height);
+        r.wrongSize = true;
         return r;
     }
     const cv::Mat raw(1, static_cast<int>(bytes.size()), CV_8UC1,
@@ -134,6 +135,7 @@ ImageFileRead readImageFile(const std::string& path, int flags, const cv::Size& 
     {
         r.problem = mrpt::format("is %dx%d, expected %dx%d", r.image.cols, r.image.rows,
                                  expected.width, expected.height);
+        r.wrongSize = true;
         r.image.release();
     }
     return r;

@@ -241,6 +241,9 @@ cv::Mat TumSource::readRawDepth(size_t i) const
 std::optional<std::string> TumSource::readDepthImage(const std::string& path, cv::Mat& raw) const
 {
     auto depth = readImageFile(path, cv::IMREAD_UNCHANGED, {camera_.width, camera_.height});
+    if (depth.wrongSize)
+        return depth.problem +
+               " (the [camera] size: give the folder's camera, e.g. --config config/tum_fr1.ini)";
     if (!depth.problem.empty())
         return depth.problem;
     if (depth.image.type() != CV_16UC1)

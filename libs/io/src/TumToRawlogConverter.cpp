@@ -99,13 +99,7 @@ TumToRawlogConverter::Result TumToRawlogConverter::convert(TumSource& source, do
                         fs::copy_file(rgbSrc, tmpImagesDir / rgbRel,
                                       fs::copy_options::overwrite_existing);
 
-                        const cv::Mat raw = source.readRawDepth(i);
-                        if (raw.cols != cam.width || raw.rows != cam.height)
-                            throw core::InputError(mrpt::format(
-                                "depth image '%s' is %dx%d but the camera is %dx%d (give the "
-                                "folder's [camera], e.g. --config config/tum_fr1.ini)",
-                                source.absolutePath(e.depthFile).c_str(), raw.cols, raw.rows,
-                                cam.width, cam.height));
+                        const cv::Mat raw = source.readRawDepth(i);  // of the camera's size
                         auto obs = mrpt::obs::CObservation3DRangeScan::Create();
                         obs->sensorLabel = sensorLabel_;
                         obs->timestamp = mrpt::Clock::fromDouble(e.rgbTimestamp);

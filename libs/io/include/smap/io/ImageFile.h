@@ -12,8 +12,9 @@ namespace smap::io
 {
 struct ImageFileRead
 {
-    cv::Mat image;        ///< empty when `problem` is set
-    std::string problem;  ///< why the file is unusable ("missing", "empty (0 bytes)", ...)
+    cv::Mat image;           ///< empty when `problem` is set
+    std::string problem;     ///< why the file is unusable ("missing", "empty (0 bytes)", ...)
+    bool wrongSize = false;  ///< the problem is a size other than the one expected
 };
 
 /// Reads `path` with cv::imdecode `flags`. `expected`, when not empty, is the size the image
