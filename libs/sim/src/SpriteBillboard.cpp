@@ -63,6 +63,17 @@ SpriteBillboard::SpriteBillboard(cv::Mat bgra, BillboardStyle style)
 {
     if (sprite_.type() != CV_8UC4 || sprite_.empty())
         throw std::invalid_argument("SpriteBillboard needs a non-empty CV_8UC4 (BGRA) sprite");
+    if (style_.filtered)
+    {
+        // Colour times alpha, alpha in [0, 1]: what area filtering and blending work on.
+        sprite_.convertTo(premultiplied_, CV_32FC4);
+        for (auto it = premultiplied_.begin<cv::Vec4f>(); it != premultiplied_.end<cv::Vec4f>();
+             ++it)
+        {
+            const float alpha = (*it)[3] / 255.0f;
+            *it = cv::Vec4f((*it)[0] * alpha, (*it)[1] * alpha, (*it)[2] * alpha, alpha);
+        }
+    }
     rowExtents_.resize(static_cast<size_t>(sprite_.rows), {1.0f, 0.0f});
     for (int r = 0; r < sprite_.rows; r++)
     {
@@ -185,20 +196,13 @@ bool SpriteBillboard::intersect(const BillboardPose& pose, const View& view,
 
 cv::Mat SpriteBillboard::filteredTexture(int heightPixels) const
 {
-    cv::Mat premultiplied;
-    sprite_.convertTo(premultiplied, CV_32FC4);
-    for (auto it = premultiplied.begin<cv::Vec4f>(); it != premultiplied.end<cv::Vec4f>(); ++it)
-    {
-        const float alpha = (*it)[3] / 255.0f;
-        *it = cv::Vec4f((*it)[0] * alpha, (*it)[1] * alpha, (*it)[2] * alpha, alpha);
-    }
-    if (heightPixels >= sprite_.rows)
-        return premultiplied;
-    const double scale = static_cast<double>(heightPixels) / sprite_.rows;
-    const cv::Size size(std::max(1, static_cast<int>(std::lround(sprite_.cols * scale))),
+    if (heightPixels >= premultiplied_.rows)
+        return premultiplied_;
+    const double scale = static_cast<double>(heightPixels) / premultiplied_.rows;
+    const cv::Size size(std::max(1, static_cast<int>(std::lround(premultiplied_.cols * scale))),
                         std::max(1, heightPixels));
     cv::Mat scaled;
-    cv::resize(premultiplied, scaled, size, 0, 0, cv::INTER_AREA);
+    cv::resize(premultiplied_, scaled, size, 0, 0, cv::INTER_AREA);
     return scaled;
 }
 

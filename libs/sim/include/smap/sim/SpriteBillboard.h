@@ -91,13 +91,14 @@ private:
     /// The surface point on the ray through the centre of pixel (u, v); false when it misses.
     bool intersect(const BillboardPose& pose, const View& view, const core::PinholeCamera& cam,
                    int u, int v, Hit& hit) const;
-    /// Premultiplied CV_32FC4 sprite, area-filtered down to `heightPixels` rows when smaller.
+    /// The premultiplied sprite, area-filtered down to `heightPixels` rows when smaller.
     cv::Mat filteredTexture(int heightPixels) const;
     /// BGR + alpha in [0, 1] at sprite coordinates: premultiplied and bilinear from `texture`
     /// when filtered, else the nearest texel of the sprite.
     cv::Vec4f texel(const cv::Mat& texture, double a, double b) const;
 
     cv::Mat sprite_;
+    cv::Mat premultiplied_;  ///< CV_32FC4, made once when the style is filtered
     BillboardStyle style_;
     /// Per sprite row: left and right silhouette edge (alpha >= 128) as fractions of the width;
     /// left > right for rows without any.
