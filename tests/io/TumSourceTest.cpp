@@ -288,3 +288,75 @@ TEST(TumSource, WarnsOnceNamingTheDepthImageWhenTheUnitLooksWrong)
     EXPECT_NE(warnings[0].find("check [tum] depth_factor"), std::string::npos) << warnings[0];
     EXPECT_TRUE(warningsReading(dir.str(), 1000.0).empty());
 }
+
+TEST(TumSource, DepthCameraPutsDepthOnTheColourGrid)
+{
+    // Depth camera 80x60 at f = 75, c = (39.5, 29.5); colour camera 64x48 at f = 60,
+    // c = (31.5, 23.5), 5 cm to the depth camera's right (t_colour_depth = -0.05 along x). A wall
+    // 2 m away: depth column u_d lands on colour column
+    // 60 * ((u_d - 39.5) / 75 * 2 - 0.05) / 2 + 31.5 = 0.8 u_d - 1.6, row v_d on 0.8 v_d - 0.1.
+    test::TempDir dir;
+    test::writeTumFolder(dir.str(), 1, 0.0, false);
+    const cv::Mat wall(60, 80, CV_16UC1, cv::Scalar(2000));
+    cv::imwrite(dir.str() + "/depth/f0.png", wall);
+    auto p = params(1000.0);
+    p.depth_camera = test::smallCamera(80, 60, 75.0);
+    p.T_colour_depth.translation() = Eigen::Vector3d(-0.05, 0, 0);
+    io::TumSource src(dir.str(), p);
+    EXPECT_EQ(src.depthCamera(), *p.depth_camera);
+    const auto f = src.next();
+    ASSERT_TRUE(f.has_value());
+    f->validate();
+    EXPECT_EQ(f->camera, *p.camera);
+    ASSERT_EQ(f->depth.size(), cv::Size(64, 48));
+    // Columns: u_d = 2 -> 0.0 is the first, u_d = 79 -> 61.6 -> 62 the last; column 63 (the
+    // colour camera sees further right) has no depth. Rows -0.1 .. 47.1: all reached.
+    EXPECT_EQ(f->depth.at<float>(24, 0), 2.0F);
+    EXPECT_EQ(f->depth.at<float>(24, 40), 2.0F);
+    EXPECT_EQ(f->depth.at<float>(24, 62), 2.0F);
+    EXPECT_EQ(f->depth.at<float>(24, 63), 0.0F);
+    EXPECT_EQ(cv::countNonZero(f->depth), 63 * 48);
+    // The colour camera 5 cm to the depth camera's LEFT: u_c = 0.8 u_d + 1.4, so column 0 has
+    // no depth and column 63 has (u_d = 77 -> 63.0).
+    auto left = p;
+    left.T_colour_depth.translation() = Eigen::Vector3d(0.05, 0, 0);
+    io::TumSource src2(dir.str(), left);
+    const auto g = src2.next();
+    ASSERT_TRUE(g.has_value());
+    EXPECT_EQ(g->depth.at<float>(24, 0), 0.0F);
+    EXPECT_EQ(g->depth.at<float>(24, 1), 2.0F);
+    EXPECT_EQ(g->depth.at<float>(24, 63), 2.0F);
+    EXPECT_EQ(cv::countNonZero(g->depth), 63 * 48);
+}
+
+TEST(TumSource, DepthImagesAreCheckedAgainstTheDepthCamerasSize)
+{
+    test::TempDir dir;
+    test::writeTumFolder(dir.str(), 1, 0.0, false);  // 64x48 depth
+    auto p = params(1000.0);
+    p.depth_camera = test::smallCamera(80, 60, 75.0);
+    io::TumSource src(dir.str(), p);
+    const auto r = src.read();
+    ASSERT_TRUE(r.has_value());
+    const auto* skipped = std::get_if<io::SkippedFrame>(&*r);
+    ASSERT_NE(skipped, nullptr);
+    EXPECT_NE(skipped->reason.find("[depth_camera]"), std::string::npos) << skipped->reason;
+}
+
+TEST(TumSource, DepthCameraWithoutAColourCameraIsAnErrorNamingBoth)
+{
+    test::TempDir dir;
+    test::writeTumFolder(dir.str(), 1, 0.0, false);
+    io::FrameSourceParameters p;
+    p.depth_camera = test::smallCamera();
+    try
+    {
+        io::TumSource src(dir.str(), p);
+        FAIL() << "no error";
+    }
+    catch (const core::InputError& e)
+    {
+        EXPECT_NE(std::string(e.what()).find("[depth_camera] needs a [camera]"), std::string::npos)
+            << e.what();
+    }
+}

@@ -1,4 +1,7 @@
 #include <gtest/gtest.h>
+#include <mrpt/io/CFileGZInputStream.h>
+#include <mrpt/obs/CObservation3DRangeScan.h>
+#include <mrpt/serialization/CArchive.h>
 
 #include <filesystem>
 #include <fstream>
@@ -153,4 +156,45 @@ TEST(TumToRawlogConverter, ColourImagesThatDoNotFitTheCameraAreRefused)
     EXPECT_NE(msg.find("32x24"), std::string::npos) << msg;
     EXPECT_FALSE(fs::exists(dir / "out.rawlog"));
     EXPECT_FALSE(fs::exists(dir / "out_Images"));
+}
+
+TEST(TumToRawlogConverter, UnregisteredDepthKeepsBothCamerasAndReadsBackRegistered)
+{
+    // Depth at 80x60 from a camera 3 cm to the colour camera's left and turned by 2 degrees:
+    // the rawlog stores the depth as recorded with both cameras and their extrinsic, and
+    // reading it back (with no configuration at all) registers it exactly as the folder does.
+    test::TempDir dir;
+    test::writeTumFolder(dir / "tum", 3, 0.0, false);
+    for (int i = 0; i < 3; i++)
+        cv::imwrite(dir / ("tum/depth/f" + std::to_string(i) + ".png"),
+                    test::patternDepthRaw(80, 60, i));
+    io::FrameSourceParameters p;
+    p.tum_depth_factor = 5000.0;
+    p.camera = test::smallCamera();
+    p.depth_camera = test::smallCamera(80, 60, 75.0);
+    p.T_colour_depth.translation() = Eigen::Vector3d(-0.03, 0.0, 0.0);
+    p.T_colour_depth.linear() =
+        Eigen::AngleAxisd(2.0 * M_PI / 180.0, Eigen::Vector3d::UnitY()).toRotationMatrix();
+    io::TumSource folder(dir / "tum", p);
+    io::TumToRawlogConverter conv;
+    conv.convert(folder, p.tum_depth_factor, dir / "out.rawlog");
+
+    mrpt::io::CFileGZInputStream in(dir / "out.rawlog");
+    mrpt::serialization::CSerializable::Ptr entry;
+    mrpt::serialization::archiveFrom(in) >> entry;
+    const auto first = std::dynamic_pointer_cast<mrpt::obs::CObservation3DRangeScan>(entry);
+    ASSERT_TRUE(first);
+    EXPECT_EQ(core::PinholeCamera::fromMrpt(first->cameraParams), *p.depth_camera);
+    EXPECT_EQ(core::PinholeCamera::fromMrpt(first->cameraParamsIntensity), *p.camera);
+    // MRPT's convention: the pose of the colour camera's optical frame in the depth sensor's
+    // frame (x forward, y left, z up). The colour camera's origin in the depth camera's optical
+    // frame (x right, y down, z forward) is o = -R^T t; in the sensor frame (o_z, -o_x, -o_y).
+    const Eigen::Vector3d o = p.T_colour_depth.inverse().translation();
+    const auto& rel = first->relativePoseIntensityWRTDepth;
+    EXPECT_NEAR(rel.x(), o.z(), 1e-12);
+    EXPECT_NEAR(rel.y(), -o.x(), 1e-12);
+    EXPECT_NEAR(rel.z(), -o.y(), 1e-12);
+    EXPECT_NEAR(o.x(), 0.03, 1e-4);  // the colour camera is to the depth camera's right
+
+    expectSameFrames(dir / "tum", p, dir / "out.rawlog", 3);
 }

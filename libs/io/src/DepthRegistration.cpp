@@ -1,6 +1,9 @@
 #include "smap/io/DepthRegistration.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstddef>
+#include <limits>
 #include <opencv2/calib3d.hpp>
 
 namespace smap::io
@@ -37,47 +40,125 @@ DepthRegistration::DepthRegistration(const core::PinholeCamera& depthCamera,
     : depthCamera_(depthCamera),
       colourCamera_(colourCamera),
       T_colour_depth_(T_colour_depth),
-      rays_(undistortedPixelRays(depthCamera))
+      rays_(undistortedPixelRays(depthCamera)),
+      colourDistorted_(colourCamera.hasDistortion()),
+      fx_(static_cast<float>(colourCamera.fx)),
+      fy_(static_cast<float>(colourCamera.fy)),
+      cx_(static_cast<float>(colourCamera.cx)),
+      cy_(static_cast<float>(colourCamera.cy)),
+      width_(static_cast<float>(colourCamera.width)),
+      height_(static_cast<float>(colourCamera.height))
 {
+    const Eigen::Matrix3d R = T_colour_depth_.linear();
+    for (auto& component : rotatedRays_)
+        component.resize(rays_.size());
+    for (size_t i = 0; i < rays_.size(); i++)
+    {
+        const Eigen::Vector3d r = R * Eigen::Vector3d(rays_[i].x, rays_[i].y, 1.0);
+        for (size_t k = 0; k < 3; k++)
+            rotatedRays_[k][i] = static_cast<float>(r[static_cast<Eigen::Index>(k)]);
+    }
 }
+
+void DepthRegistration::distort(float& x, float& y) const
+{
+    const auto& d = colourCamera_.distortion;
+    const auto k1 = static_cast<float>(d[0]), k2 = static_cast<float>(d[1]);
+    const auto p1 = static_cast<float>(d[2]), p2 = static_cast<float>(d[3]);
+    const auto k3 = static_cast<float>(d[4]);
+    const float r2 = x * x + y * y;
+    const float radial = 1.0F + r2 * (k1 + r2 * (k2 + r2 * k3));
+    const float xd = x * radial + 2.0F * p1 * x * y + p2 * (r2 + 2.0F * x * x);
+    const float yd = y * radial + p1 * (r2 + 2.0F * y * y) + 2.0F * p2 * x * y;
+    x = xd;
+    y = yd;
+}
+
+namespace
+{
+struct RowProjection
+{
+    float fx, fy, cx, cy;  ///< cx, cy + 0.5: rounding to the nearest pixel is a truncation
+    float tx, ty, tz;
+};
+
+/// Colour column + 0.5, row + 0.5 and depth of each depth pixel of a row (pinhole). No test
+/// inside, so that the compiler vectorises the loop (with __restrict: the buffers do not
+/// overlap, which it cannot prove by itself); the caller leaves out invalid depth and points
+/// behind the colour camera, where this may divide by 0.
+void projectPinholeRow(const float* __restrict depth, const float* __restrict rx,
+                       const float* __restrict ry, const float* __restrict rz, size_t cols,
+                       const RowProjection& p, float* __restrict us, float* __restrict vs,
+                       float* __restrict zs)
+{
+    for (size_t u = 0; u < cols; u++)
+    {
+        const float z = depth[u];
+        const float pz = z * rz[u] + p.tz;
+        zs[u] = pz;
+        const float inverseZ = 1.0F / pz;
+        us[u] = p.fx * ((z * rx[u] + p.tx) * inverseZ) + p.cx;
+        vs[u] = p.fy * ((z * ry[u] + p.ty) * inverseZ) + p.cy;
+    }
+}
+}  // namespace
 
 cv::Mat DepthRegistration::registerDepth(const cv::Mat& depth) const
 {
     CV_Assert(depth.type() == CV_32FC1);
     CV_Assert(depth.cols == depthCamera_.width && depth.rows == depthCamera_.height);
-    cv::Mat out = cv::Mat::zeros(colourCamera_.height, colourCamera_.width, CV_32FC1);
-    const Eigen::Matrix3d R = T_colour_depth_.linear();
-    const Eigen::Vector3d t = T_colour_depth_.translation();
-    const auto& d = colourCamera_.distortion;
-    const double k1 = d[0], k2 = d[1], p1 = d[2], p2 = d[3], k3 = d[4];
+    // Every pixel starts "infinitely far" so that the nearest surface wins by a plain minimum
+    // (no branch on unset pixels); those no depth pixel reached become 0 at the end.
+    constexpr float kUnreached = std::numeric_limits<float>::max();
+    cv::Mat out(colourCamera_.height, colourCamera_.width, CV_32FC1, cv::Scalar(kUnreached));
+    auto* dst = out.ptr<float>();
+    const size_t cols = static_cast<size_t>(depth.cols);
+    // Per row, first where each pixel lands (a branch-free loop the compiler vectorises), then
+    // the scatter into the colour image.
+    std::vector<float> us(cols), vs(cols), zs(cols);
     for (int v = 0; v < depth.rows; v++)
     {
         const float* row = depth.ptr<float>(v);
-        for (int u = 0; u < depth.cols; u++)
-        {
-            const float z = row[u];
-            if (!(z > 0.0f))
-                continue;
-            const auto& ray = rays_[static_cast<size_t>(v) * depth.cols + u];
-            const Eigen::Vector3d p = R * Eigen::Vector3d(ray.x * z, ray.y * z, z) + t;
-            if (p.z() <= 0.0)
-                continue;
-            // Project with the colour camera's plumb-bob distortion.
-            const double x = p.x() / p.z(), y = p.y() / p.z();
-            const double r2 = x * x + y * y;
-            const double radial = 1.0 + r2 * (k1 + r2 * (k2 + r2 * k3));
-            const double xd = x * radial + 2.0 * p1 * x * y + p2 * (r2 + 2.0 * x * x);
-            const double yd = y * radial + p1 * (r2 + 2.0 * y * y) + 2.0 * p2 * x * y;
-            const long uc = std::lround(colourCamera_.fx * xd + colourCamera_.cx);
-            const long vc = std::lround(colourCamera_.fy * yd + colourCamera_.cy);
-            if (uc < 0 || vc < 0 || uc >= out.cols || vc >= out.rows)
-                continue;
-            float& dst = out.at<float>(static_cast<int>(vc), static_cast<int>(uc));
-            const auto zc = static_cast<float>(p.z());
-            if (dst == 0.0f || zc < dst)
-                dst = zc;
-        }
+        projectRow(row, cols * static_cast<size_t>(v), cols, us.data(), vs.data(), zs.data());
+        scatterRow(row, us.data(), vs.data(), zs.data(), cols, dst);
     }
+    const size_t n = out.total();
+    for (size_t i = 0; i < n; i++)
+        dst[i] = dst[i] == kUnreached ? 0.0F : dst[i];
     return out;
+}
+
+void DepthRegistration::projectRow(const float* depth, size_t first, size_t cols, float* us,
+                                   float* vs, float* zs) const
+{
+    const Eigen::Vector3f t = T_colour_depth_.translation().cast<float>();
+    const float fx = fx_, fy = fy_, cx = cx_ + 0.5F, cy = cy_ + 0.5F;
+    const RowProjection projection{fx, fy, cx, cy, t.x(), t.y(), t.z()};
+    projectPinholeRow(depth, rotatedRays_[0].data() + first, rotatedRays_[1].data() + first,
+                      rotatedRays_[2].data() + first, cols, projection, us, vs, zs);
+    if (!colourDistorted_)
+        return;
+    for (size_t u = 0; u < cols; u++)  // redo with the colour camera's distortion
+    {
+        float x = (us[u] - cx) / fx, y = (vs[u] - cy) / fy;
+        distort(x, y);
+        us[u] = fx * x + cx;
+        vs[u] = fy * y + cy;
+    }
+}
+
+void DepthRegistration::scatterRow(const float* depth, const float* us, const float* vs,
+                                   const float* zs, size_t cols, float* dst) const
+{
+    const float width = width_, height = height_;
+    const auto stride = static_cast<ptrdiff_t>(colourCamera_.width);
+    for (size_t u = 0; u < cols; u++)
+    {
+        const float uf = us[u], vf = vs[u], z = zs[u];
+        if (!(depth[u] > 0.0F && z > 0.0F && uf >= 0.0F && vf >= 0.0F && uf < width && vf < height))
+            continue;
+        float& d = dst[static_cast<ptrdiff_t>(vf) * stride + static_cast<ptrdiff_t>(uf)];
+        d = std::min(d, z);  // the nearest surface wins
+    }
 }
 }  // namespace smap::io

@@ -2,10 +2,58 @@
 
 #include <mrpt/core/format.h>
 
+#include <cmath>
+#include <sstream>
+
 #include "smap/core/InputError.h"
 
 namespace smap::io
 {
+namespace
+{
+constexpr const char* kDepthSection = "depth_camera";
+
+/// Three numbers "x y z" (commas allowed) from [depth_camera] `key`; `fallback` when absent.
+Eigen::Vector3d readTriple(const mrpt::config::CConfigFileBase& cfg, const std::string& key,
+                           const Eigen::Vector3d& fallback)
+{
+    const std::string text = cfg.read_string(kDepthSection, key, "");
+    if (text.empty())
+        return fallback;
+    std::string spaced = text;
+    for (char& ch : spaced)
+        ch = ch == ',' ? ' ' : ch;
+    std::istringstream in(spaced);
+    Eigen::Vector3d v;
+    std::string rest;
+    if (!(in >> v.x() >> v.y() >> v.z()) || (in >> rest) || !v.allFinite())
+        throw core::InputError(mrpt::format("[%s] %s = '%s' must be three numbers (x y z)",
+                                            kDepthSection, key.c_str(), text.c_str()));
+    return v;
+}
+
+void loadDepthCamera(const mrpt::config::CConfigFileBase& cfg, FrameSourceParameters& p)
+{
+    if (!cfg.sectionExists(kDepthSection))
+        return;
+    p.depth_camera = core::loadCamera(cfg, kDepthSection);
+    const Eigen::Vector3d t = readTriple(cfg, "t_colour_depth", p.T_colour_depth.translation());
+    const Eigen::AngleAxisd current(p.T_colour_depth.linear());
+    const Eigen::Vector3d r =
+        readTriple(cfg, "r_colour_depth", current.axis() * current.angle() * 180.0 / M_PI);
+    constexpr double kLargestOffset = 1.0;  // m: farther apart is no RGB-D sensor
+    if (t.norm() > kLargestOffset)
+        throw core::InputError(mrpt::format(
+            "[%s] t_colour_depth = %g %g %g: the cameras would be %.2f m apart (metres expected)",
+            kDepthSection, t.x(), t.y(), t.z(), t.norm()));
+    p.T_colour_depth = Eigen::Isometry3d::Identity();
+    const double angle = r.norm() * M_PI / 180.0;
+    if (angle > 0.0)
+        p.T_colour_depth.linear() = Eigen::AngleAxisd(angle, r.normalized()).toRotationMatrix();
+    p.T_colour_depth.translation() = t;
+}
+}  // namespace
+
 void FrameSourceParameters::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
                                                const std::string&)
 {
@@ -36,6 +84,7 @@ void FrameSourceParameters::loadFromConfigFile(const mrpt::config::CConfigFileBa
     // A [camera] section, even a partial one, must be complete and valid.
     if (cfg.sectionExists("camera"))
         camera = core::loadCamera(cfg, "camera");
+    loadDepthCamera(cfg, *this);
 }
 
 void FrameSourceParameters::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
@@ -50,6 +99,17 @@ void FrameSourceParameters::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
     cfg.write("rawlog", "sensor_label", rawlog_sensor_label);
     if (camera)
         core::saveCamera(*camera, cfg, "camera");
+    if (depth_camera)
+    {
+        core::saveCamera(*depth_camera, cfg, kDepthSection);
+        const Eigen::Vector3d& t = T_colour_depth.translation();
+        const Eigen::AngleAxisd r(T_colour_depth.linear());
+        const Eigen::Vector3d rv = r.axis() * r.angle() * 180.0 / M_PI;
+        cfg.write(kDepthSection, "t_colour_depth",
+                  mrpt::format("%.17g %.17g %.17g", t.x(), t.y(), t.z()));
+        cfg.write(kDepthSection, "r_colour_depth",
+                  mrpt::format("%.17g %.17g %.17g", rv.x(), rv.y(), rv.z()));
+    }
 }
 
 core::PinholeCamera defaultKinectCamera()

@@ -20,8 +20,10 @@
 #include <opencv2/imgproc.hpp>
 #include <optional>
 
+#include "SensorExtrinsics.h"
 #include "smap/core/InputError.h"
 #include "smap/io/DepthRegistration.h"
+#include "smap/io/DepthToColour.h"
 #include "smap/io/ImageFile.h"
 #include "smap/io/RangeImageFile.h"
 #include "smap/io/TumSource.h"
@@ -33,13 +35,6 @@ namespace smap::io
 {
 namespace
 {
-/// Pose of an optical (x right, y down, z forward) camera in MRPT's sensor frame (x forward,
-/// y left, z up): what relativePoseIntensityWRTDepth is when both cameras coincide.
-mrpt::poses::CPose3D opticalInSensorFrame()
-{
-    return mrpt::poses::CPose3D(0, 0, 0, mrpt::DEG2RAD(-90.0), 0, mrpt::DEG2RAD(-90.0));
-}
-
 /// The root cause in an MRPT exception text: its last "Message:" line (MRPT nests the original
 /// exception last, each with a call-stack dump), or the first line of any other text.
 std::string innermostMrptMessage(const std::string& what)
@@ -50,17 +45,6 @@ std::string innermostMrptMessage(const std::string& what)
     std::string line = what.substr(from, what.find('\n', from) - from);
     const size_t first = line.find_first_not_of(' ');
     return first == std::string::npos ? what : line.substr(first);
-}
-
-bool sameIntrinsics(const core::PinholeCamera& a, const core::PinholeCamera& b)
-{
-    const double tol = 1e-9;
-    bool same = a.width == b.width && a.height == b.height && std::abs(a.fx - b.fx) < tol &&
-                std::abs(a.fy - b.fy) < tol && std::abs(a.cx - b.cx) < tol &&
-                std::abs(a.cy - b.cy) < tol;
-    for (size_t i = 0; i < 5; i++)
-        same = same && std::abs(a.distortion[i] - b.distortion[i]) < tol;
-    return same;
 }
 
 /// The uncompressed size (mod 2^32) a gzip file's trailer states; nullopt for other files.
@@ -78,14 +62,6 @@ std::optional<uint32_t> gzipTrailerSize(const std::string& path, uint64_t fileSi
         return std::nullopt;
     return static_cast<uint32_t>(tail[0] | (tail[1] << 8) | (tail[2] << 16) |
                                  (static_cast<uint32_t>(tail[3]) << 24));
-}
-
-Eigen::Isometry3d toIsometry(const mrpt::poses::CPose3D& p)
-{
-    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-    T.linear() = p.getRotationMatrix().asEigen();
-    T.translation() = Eigen::Vector3d(p.x(), p.y(), p.z());
-    return T;
 }
 }  // namespace
 
@@ -113,14 +89,8 @@ struct RawlogSource::Impl
     bool warnedDepthSize = false;
     bool warnedColourSize = false;
 
-    // Caches keyed by the cameras and relative pose they were built for.
-    struct RegistrationCache
-    {
-        core::PinholeCamera depthCam, colourCam;
-        mrpt::poses::CPose3D T_colour_depth;
-        std::unique_ptr<DepthRegistration> registration;
-    };
-    std::optional<RegistrationCache> registrationCache;
+    DepthToColour toColour;
+    // Keyed by the depth camera it was built for.
     std::optional<std::pair<core::PinholeCamera, std::vector<float>>> rangeToDepthCache;
 
     std::string resolve(const std::string& file) const
@@ -327,16 +297,24 @@ core::RgbdFrame RawlogSource::Impl::convert(const CObservation3DRangeScan& obs, 
 
     core::PinholeCamera depthCam = core::PinholeCamera::fromMrpt(obs.cameraParams);
     core::PinholeCamera colourCam = core::PinholeCamera::fromMrpt(obs.cameraParamsIntensity);
-    const bool posesCoincide =
-        obs.relativePoseIntensityWRTDepth.distanceEuclidean6D(opticalInSensorFrame()) < 1e-6;
+    Eigen::Isometry3d T_colour_depth = colourFromDepth(obs.relativePoseIntensityWRTDepth);
     if (params.camera)
     {
         colourCam = *params.camera;
-        if (posesCoincide)
+        if (isIdentity(T_colour_depth))
             depthCam = colourCam;
+    }
+    if (params.depth_camera)  // the configuration knows the sensor better than the recording
+    {
+        depthCam = *params.depth_camera;
+        T_colour_depth = params.T_colour_depth;
     }
     if (depthCam.width != raw.cols || depthCam.height != raw.rows)
     {
+        if (params.depth_camera)
+            throw core::InputError(
+                mrpt::format("[depth_camera] says %dx%d but rawlog '%s' has %dx%d range images",
+                             depthCam.width, depthCam.height, path.c_str(), raw.cols, raw.rows));
         if (!warnedDepthSize)
         {
             log.logFmt(
@@ -382,25 +360,7 @@ core::RgbdFrame RawlogSource::Impl::convert(const CObservation3DRangeScan& obs, 
             d[i] *= k[i];
     }
 
-    if (posesCoincide && sameIntrinsics(depthCam, colourCam))
-    {
-        f.depth = depth;
-    }
-    else
-    {
-        const mrpt::poses::CPose3D T_colour_depth =
-            (-obs.relativePoseIntensityWRTDepth) + opticalInSensorFrame();
-        if (!registrationCache || !sameIntrinsics(registrationCache->depthCam, depthCam) ||
-            !sameIntrinsics(registrationCache->colourCam, colourCam) ||
-            registrationCache->T_colour_depth.distanceEuclidean6D(T_colour_depth) > 1e-12)
-        {
-            registrationCache.emplace(
-                RegistrationCache{depthCam, colourCam, T_colour_depth,
-                                  std::make_unique<DepthRegistration>(depthCam, colourCam,
-                                                                      toIsometry(T_colour_depth))});
-        }
-        f.depth = registrationCache->registration->registerDepth(depth);
-    }
+    f.depth = toColour.onColourGrid(depth, depthCam, colourCam, T_colour_depth);
     f.camera = colourCam;
     return f;
 }

@@ -102,6 +102,16 @@ TumSource::TumSource(const std::string& folder, const FrameSourceParameters& par
                              << ". Pass a preset (config/tum_fr1.ini, tum_fr2.ini, tum_fr3.ini, "
                                 "7scenes.ini, bonn.ini).");
     }
+    depthCamera_ = camera_;
+    if (params.depth_camera)
+    {
+        if (!params.camera)
+            throw core::InputError(mrpt::format(
+                "TUM folder '%s': [depth_camera] needs a [camera] section too (the colour camera "
+                "its depth is registered to)",
+                folder.c_str()));
+        depthCamera_ = *params.depth_camera;
+    }
 }
 
 void TumSource::warnBadLines(const std::vector<std::string>& badLines)
@@ -240,10 +250,14 @@ cv::Mat TumSource::readRawDepth(size_t i) const
 
 std::optional<std::string> TumSource::readDepthImage(const std::string& path, cv::Mat& raw) const
 {
-    auto depth = readImageFile(path, cv::IMREAD_UNCHANGED, {camera_.width, camera_.height});
+    auto depth =
+        readImageFile(path, cv::IMREAD_UNCHANGED, {depthCamera_.width, depthCamera_.height});
     if (depth.wrongSize)
         return depth.problem +
-               " (the [camera] size: give the folder's camera, e.g. --config config/tum_fr1.ini)";
+               (params_.depth_camera
+                    ? std::string(" (the [depth_camera] size)")
+                    : std::string(" (the [camera] size: give the folder's camera, e.g. --config "
+                                  "config/tum_fr1.ini)"));
     if (!depth.problem.empty())
         return depth.problem;
     if (depth.image.type() != CV_16UC1)
@@ -277,10 +291,12 @@ std::optional<FrameRead> TumSource::read()
     cv::Mat raw;
     if (const auto problem = readDepthImage(depthPath, raw))
         return rejected(depthPath, "depth image " + *problem);
-    rawDepthToMetres(raw, static_cast<float>(1.0 / params_.tum_depth_factor), f.depth);
-    if (cv::countNonZero(f.depth) == 0)
+    cv::Mat depth;
+    rawDepthToMetres(raw, static_cast<float>(1.0 / params_.tum_depth_factor), depth);
+    if (cv::countNonZero(depth) == 0)
         return rejected(depthPath, "depth image holds no valid depth (every pixel 0 or 65535)");
-    checkDepthScaleOnce(f.depth, depthPath);
+    checkDepthScaleOnce(depth, depthPath);
+    f.depth = toColour_.onColourGrid(depth, depthCamera_, camera_, params_.T_colour_depth);
     f.camera = camera_;
     f.timestamp = e.rgbTimestamp;
     f.index = i;

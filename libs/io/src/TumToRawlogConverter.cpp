@@ -12,6 +12,7 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "SensorExtrinsics.h"
 #include "smap/core/AtomicFile.h"
 #include "smap/core/InputError.h"
 #include "smap/io/TumTextFormats.h"
@@ -99,7 +100,7 @@ TumToRawlogConverter::Result TumToRawlogConverter::convert(TumSource& source, do
                         fs::copy_file(rgbSrc, tmpImagesDir / rgbRel,
                                       fs::copy_options::overwrite_existing);
 
-                        const cv::Mat raw = source.readRawDepth(i);  // of the camera's size
+                        const cv::Mat raw = source.readRawDepth(i);  // of the depth camera's size
                         auto obs = mrpt::obs::CObservation3DRangeScan::Create();
                         obs->sensorLabel = sensorLabel_;
                         obs->timestamp = mrpt::Clock::fromDouble(e.rgbTimestamp);
@@ -131,10 +132,10 @@ TumToRawlogConverter::Result TumToRawlogConverter::convert(TumSource& source, do
                         obs->hasIntensityImage = true;
                         obs->intensityImageChannel = mrpt::obs::CObservation3DRangeScan::CH_VISIBLE;
                         obs->intensityImage.setExternalStorage(rgbRel.string());
-                        obs->cameraParams = cam.toMrpt();
+                        obs->cameraParams = source.depthCamera().toMrpt();
                         obs->cameraParamsIntensity = cam.toMrpt();
-                        obs->relativePoseIntensityWRTDepth = mrpt::poses::CPose3D(
-                            0, 0, 0, mrpt::DEG2RAD(-90.0), 0, mrpt::DEG2RAD(-90.0));
+                        obs->relativePoseIntensityWRTDepth =
+                            relativePoseIntensityWRTDepth(source.T_colour_depth());
                         arch << *obs;
                         result.frames++;
 
@@ -154,9 +155,23 @@ TumToRawlogConverter::Result TumToRawlogConverter::convert(TumSource& source, do
     result.imagesDirectory = imagesDir.string();
     if (const std::string gt = source.groundTruthPath(); !gt.empty())
     {
-        result.groundTruthPath = (parent / (out.stem().string() + "_groundtruth.txt")).string();
-        writeTumTrajectory(result.groundTruthPath, readTumTrajectory(gt),
-                           "ground truth from " + gt);
+        // groundtruth.txt as <name>_groundtruth.txt, and any further reference beside it
+        // (groundtruth_sfm.txt) as <name>_groundtruth_sfm.txt: the rawlog keeps them all.
+        const fs::path folder = fs::path(gt).parent_path();
+        for (const auto& e : fs::directory_iterator(folder))
+        {
+            const std::string name = e.path().filename().string();
+            const bool reference =
+                name == "groundtruth.txt" ||
+                (name.rfind("groundtruth_", 0) == 0 && e.path().extension() == ".txt");
+            if (!reference || !e.is_regular_file())
+                continue;
+            const std::string copy = (parent / (out.stem().string() + "_" + name)).string();
+            writeTumTrajectory(copy, readTumTrajectory(e.path().string()),
+                               "ground truth from " + e.path().string());
+            if (name == "groundtruth.txt")
+                result.groundTruthPath = copy;
+        }
     }
     MRPT_LOG_INFO_FMT("wrote %zu frames to '%s' (images in '%s')", result.frames, outRawlog.c_str(),
                       result.imagesDirectory.c_str());

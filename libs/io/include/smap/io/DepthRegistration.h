@@ -4,6 +4,7 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <array>
 #include <opencv2/core/mat.hpp>
 #include <vector>
 
@@ -28,10 +29,26 @@ public:
     const std::vector<cv::Point2f>& depthRays() const { return rays_; }
 
 private:
+    /// Applies the colour camera's plumb-bob distortion to normalised coordinates.
+    void distort(float& x, float& y) const;
+    /// Where each pixel of one depth row (pixels first .. first + cols - 1) lands: colour
+    /// column + 0.5, row + 0.5 and depth in the colour frame (meaningless where depth <= 0).
+    void projectRow(const float* depth, size_t first, size_t cols, float* us, float* vs,
+                    float* zs) const;
+    /// Keeps the nearest depth per colour pixel, of the row's valid depth pixels in front of
+    /// the colour camera.
+    void scatterRow(const float* depth, const float* us, const float* vs, const float* zs,
+                    size_t cols, float* dst) const;
+
     core::PinholeCamera depthCamera_;
     core::PinholeCamera colourCamera_;
     Eigen::Isometry3d T_colour_depth_;
     std::vector<cv::Point2f> rays_;
+    /// R_colour_depth * (x/z, y/z, 1) of each depth pixel, one array per component: its point
+    /// at depth z is z * rotatedRays_[.][i] + t_colour_depth in the colour frame.
+    std::array<std::vector<float>, 3> rotatedRays_;
+    bool colourDistorted_ = false;
+    float fx_, fy_, cx_, cy_, width_, height_;  ///< the colour camera's, as floats
 };
 
 /// Undistorted normalised coordinates of every pixel of `camera`, row-major.

@@ -9,10 +9,17 @@
 //           for TUM folders the apps fall back on the folder's camera.ini or name preset
 //           (pipeline/InputPreset.h), TumSource itself on the ROS default; overrides the
 //           observation's intrinsics for rawlogs.
+// [depth_camera] optional, for depth not registered to colour (7-Scenes, a raw Kinect): the
+//           intrinsics of the depth images (same keys as [camera]) and the depth-to-colour
+//           extrinsic T_colour_depth as t_colour_depth = x y z (metres) and r_colour_depth = a
+//           rotation vector in degrees (axis times angle). Each depth image is then put on the
+//           colour grid when read (io/DepthToColour.h); for rawlogs it replaces the
+//           observation's depth camera and relativePoseIntensityWRTDepth.
 #pragma once
 
 #include <mrpt/config/CLoadableOptions.h>
 
+#include <Eigen/Geometry>
 #include <optional>
 #include <string>
 
@@ -35,6 +42,11 @@ struct FrameSourceParameters : public mrpt::config::CLoadableOptions
     std::string rawlog_sensor_label;
 
     std::optional<core::PinholeCamera> camera;
+
+    /// The depth camera when depth is not registered to colour; with it T_colour_depth maps
+    /// points from its optical frame to the colour camera's (x right, y down, z forward).
+    std::optional<core::PinholeCamera> depth_camera;
+    Eigen::Isometry3d T_colour_depth = Eigen::Isometry3d::Identity();
 
     void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
                             const std::string& section) override;

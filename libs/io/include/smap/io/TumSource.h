@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "smap/io/DepthToColour.h"
 #include "smap/io/FrameSource.h"
 #include "smap/io/TumTextFormats.h"
 
@@ -21,7 +22,8 @@ public:
     TumSource(const std::string& folder, const FrameSourceParameters& params);
 
     /// A frame whose colour or depth image is missing, empty, undecodable, of the wrong size
-    /// or type, or without any valid depth is skipped (and warned about).
+    /// or type, or without any valid depth is skipped (and warned about). With a
+    /// [depth_camera], the depth is put on the colour camera's grid (DepthToColour).
     std::optional<FrameRead> read() override;
     std::string description() const override;
     std::optional<size_t> sizeHint() const override { return entries_.size(); }
@@ -29,7 +31,12 @@ public:
 
     /// The associated (rgb, depth) pairs, in order.
     const std::vector<TumAssociationEntry>& entries() const { return entries_; }
+    /// The colour camera: every frame's camera (its depth is on this grid).
     const core::PinholeCamera& camera() const { return camera_; }
+    /// The camera of the depth images as stored: the colour camera unless [depth_camera] is set.
+    const core::PinholeCamera& depthCamera() const { return depthCamera_; }
+    /// Maps the depth camera's optical frame to the colour camera's (identity when registered).
+    const Eigen::Isometry3d& T_colour_depth() const { return params_.T_colour_depth; }
     const std::string& folder() const { return folder_; }
 
     /// Raw 16-bit depth of entry `i` exactly as stored in its PNG (for converters); throws
@@ -50,6 +57,8 @@ private:
     std::string folder_;
     FrameSourceParameters params_;
     core::PinholeCamera camera_;
+    core::PinholeCamera depthCamera_;
+    DepthToColour toColour_;
     std::vector<TumAssociationEntry> entries_;
     size_t cursor_ = 0;
     size_t badListLines_ = 0;

@@ -4,10 +4,13 @@
 // externally in "<name>_Images/" (colour files copied byte for byte; depth as MRPT .bin range
 // images in the source's own units, rangeUnits = 1 / depth_factor), so it stays small and opens
 // in RawLogViewer. Images keep the paths the lists give them; one listed by an absolute path or
-// one outside the folder ("../") goes to outside/rgb|depth/INDEX/NAME instead. Depth and colour
-// cameras coincide (relativePoseIntensityWRTDepth is the optical-to-sensor rotation).
-// groundtruth.txt, when present, is written as
-// "<name>_groundtruth.txt" beside the rawlog.
+// one outside the folder ("../") goes to outside/rgb|depth/INDEX/NAME instead. Depth stays as
+// recorded: cameraParams is the source's depth camera, cameraParamsIntensity its colour camera
+// and relativePoseIntensityWRTDepth their extrinsic (the optical-to-sensor rotation alone when
+// the folder's depth is registered; [depth_camera] otherwise), so the rawlog reads back as the
+// folder does.
+// groundtruth.txt, when present, is written as "<name>_groundtruth.txt" beside the rawlog, and
+// any further reference beside it (groundtruth_sfm.txt) as "<name>_groundtruth_sfm.txt".
 #pragma once
 
 #include <mrpt/system/COutputLogger.h>
