@@ -10,6 +10,7 @@
 #include "smap/core/TrackedConfig.h"
 #include "smap/io/FrameSourceParameters.h"
 #include "smap/io/RawlogSource.h"
+#include "smap/io/TumSource.h"
 #include "smap/io/TumTextFormats.h"
 #include "smap/pipeline/InputPreset.h"
 #include "smap/pipeline/SynthApp.h"
@@ -87,34 +88,51 @@ TEST(SynthApp, CompositesPeopleIntoTheRealKitchen)
     std::ostringstream out;
     pipeline::SynthApp app;
     app.setMinLoggingLevel(mrpt::system::LVL_ERROR);
+    const std::string sfm = test::sevenScenesDir() + "/groundtruth_sfm.txt";
     ASSERT_EQ(app.run({"--composite-onto", test::sevenScenesDir(), "--people",
                        test::sharedDir() + "/data/people", "--config",
-                       test::sourceDir() + "/config/7scenes.ini", "--frames", "20", "--out",
-                       dir / "comp", "--no-rawlog", "--contact-sheet", "0"},
+                       test::sourceDir() + "/config/7scenes.ini", "--ground-truth", sfm, "--frames",
+                       "20", "--out", dir / "comp", "--no-rawlog", "--contact-sheet", "0"},
                       out),
               0);
     EXPECT_NE(test::readTextFile(dir / "comp/meta.json").find("\"mode\": \"composite\""),
               std::string::npos);
-    EXPECT_EQ(io::readTumTrajectory(dir / "comp/groundtruth.txt").size(), 20u);
+    // The composite's ground truth is the colour camera's poses it was made with.
+    const auto written = io::readTumTrajectory(dir / "comp/groundtruth.txt");
+    const auto colourPoses = io::readTumTrajectory(sfm);
+    ASSERT_EQ(written.size(), 20u);
+    for (size_t i = 0; i < written.size(); i++)
+        EXPECT_LT((written[i].T_world_cam.translation() - colourPoses[i].T_world_cam.translation())
+                      .norm(),
+                  1e-6);
+    // The frames are the colour camera's: depth registered by the preset's [depth_camera], as
+    // semantic-mapper reads the folder.
+    core::TrackedConfig cfg;
+    cfg.loadFile(test::sourceDir() + "/config/7scenes.ini");
+    io::FrameSourceParameters params;
+    cfg.load(params);
+    io::TumSource kitchen(test::sevenScenesDir(), params);
     size_t framesWithPeople = 0, unchanged = 0, compared = 0;
     for (int i = 0; i < 20; i++)
     {
         const std::string n = mrpt::format("%06d.png", i);
         const cv::Mat labels = cv::imread(dir / ("comp/labels/" + n), cv::IMREAD_UNCHANGED);
         const cv::Mat depth = cv::imread(dir / ("comp/depth/" + n), cv::IMREAD_UNCHANGED);
-        const cv::Mat source =
-            cv::imread(test::sevenScenesDir() + mrpt::format("/depth/frame-%06d.png", i),
-                       cv::IMREAD_UNCHANGED);
+        const auto source = kitchen.next();
+        ASSERT_TRUE(source.has_value());
         framesWithPeople += cv::countNonZero(labels == 15) > 0;
-        // Away from people the real depth is kept exactly (mm -> factor 5000 is exact).
+        // Away from people the real (registered) depth is kept, to the 0.2 mm of the output's
+        // 5000 units per metre.
         for (int v = 0; v < depth.rows; v += 7)
             for (int u = 0; u < depth.cols; u += 7)
                 if (labels.at<uint8_t>(v, u) == 255)
                 {
                     compared++;
-                    unchanged += depth.at<uint16_t>(v, u) == source.at<uint16_t>(v, u) * 5;
+                    unchanged += std::abs(depth.at<uint16_t>(v, u) / 5000.0 -
+                                          source->depth.at<float>(v, u)) <= 1.0 / 5000.0;
                 }
     }
     EXPECT_GT(framesWithPeople, 10u);
+    EXPECT_GT(compared, 1000u);
     EXPECT_EQ(unchanged, compared);
 }

@@ -86,8 +86,8 @@ core::JsonValue evaluateTrajectory(const std::string& groundTruth,
             fs::create_directories(fs::path(plotPath).parent_path());
             eval::saveAtePlot(plotPath, ate);
         }
-        log.logFmt(mrpt::system::LVL_INFO, "ATE RMSE %.4f m over %zu poses", ate.translation.rmse,
-                   ate.pairs);
+        log.logFmt(mrpt::system::LVL_INFO, "ATE RMSE %.4f m over %zu poses against '%s'",
+                   ate.translation.rmse, ate.pairs, groundTruth.c_str());
     }
     catch (const std::exception& e)
     {
@@ -96,6 +96,30 @@ core::JsonValue evaluateTrajectory(const std::string& groundTruth,
         log.logStr(mrpt::system::LVL_WARN, std::string("no trajectory evaluation: ") + e.what());
     }
     return ev;
+}
+
+/// The reference trajectories of an input whose own is `groundTruth`: it, then every
+/// "<stem>_*.txt" beside it in name order (e.g. 7-Scenes' groundtruth_sfm.txt beside
+/// groundtruth.txt). Empty when the input has none.
+std::vector<std::string> referencesBeside(const std::string& groundTruth)
+{
+    if (groundTruth.empty())
+        return {};
+    const fs::path gt(groundTruth);
+    const std::string prefix = gt.stem().string() + "_";
+    std::vector<std::string> others;
+    std::error_code ec;
+    for (const auto& e :
+         fs::directory_iterator(gt.parent_path().empty() ? "." : gt.parent_path(), ec))
+    {
+        const std::string name = e.path().filename().string();
+        if (e.is_regular_file(ec) && e.path().extension() == ".txt" &&
+            name.compare(0, prefix.size(), prefix) == 0)
+            others.push_back(e.path().string());
+    }
+    std::sort(others.begin(), others.end());
+    others.insert(others.begin(), groundTruth);
+    return others;
 }
 
 /// Stops a run whose first frames are all unreadable (the wrong folder, a camera that does not
@@ -160,8 +184,9 @@ std::string SemanticMapperApp::usage()
            "picks one\n"
            "  --out DIR    output folder (default: smap-out)\n"
            "  --gt F       ground-truth trajectory (TUM format) for ATE/RPE in metrics.json;\n"
-           "               default: the one the input ships (groundtruth.txt, "
-           "<rawlog>_groundtruth.txt)\n"
+           "               repeat it to report several (the first is the evaluation, the rest\n"
+           "               other_references); default: the one the input ships (groundtruth.txt,\n"
+           "               <rawlog>_groundtruth.txt) and any groundtruth_*.txt beside it\n"
            "  --gt-labels D  ground-truth labels/ and dynamic/ images per frame (smap-synth\n"
            "               layout) for Table III scores; default: <rawlog>_gt/, <folder>/gt/ or\n"
            "               the folder's own labels/ and dynamic/ when present\n"
@@ -241,9 +266,10 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
         seg.backend = "none";
     }
 
-    const std::string gtPath = cl.value("gt").value_or("");
-    if (!gtPath.empty() && !fs::is_regular_file(gtPath))
-        throw core::InputError("--gt '" + gtPath + "' is not a file");
+    const std::vector<std::string> gtPaths = cl.values("gt");
+    for (const auto& gt : gtPaths)
+        if (!fs::is_regular_file(gt))
+            throw core::InputError("--gt '" + gt + "' is not a file");
     std::string gtLabels = cl.value("gt-labels").value_or("");
     if (!gtLabels.empty() && !fs::is_directory(gtLabels))
         throw core::InputError("--gt-labels '" + gtLabels + "' is not a folder");
@@ -256,7 +282,8 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
     auto source = io::openFrameSource(input, sourceParams);
     source->setMinLoggingLevel(getMinLoggingLevel());
     core::prepareOutputDirectory(outDir, "--out");
-    const std::string groundTruth = gtPath.empty() ? source->groundTruthPath() : gtPath;
+    const std::vector<std::string> references =
+        gtPaths.empty() ? referencesBeside(source->groundTruthPath()) : gtPaths;
     if (gtLabels.empty())
         gtLabels = KeyFrameScorer::findFor(input);
 
@@ -459,13 +486,20 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
                 mrpt::format("reading, front end %s, tracking, local mapping %s, keyframe worker",
                              params.pipeline.frame_queue > 0 ? "(own threads)" : "(on tracking)",
                              params.localMapping.threaded ? "(own thread)" : "(on tracking)"));
-    if (!groundTruth.empty())
+    if (!references.empty())
     {
+        // The first reference is the run's evaluation (and plot); each further one is reported
+        // beside it (datasets whose pseudo ground truths disagree, e.g. 7-Scenes).
         const std::string plot =
             params.pipeline.snapshots ? (dir / "snapshots" / "ate.png").string() : std::string();
-        metrics.set("evaluation", evaluateTrajectory(groundTruth, trajectory, plot, *this));
+        metrics.set("evaluation", evaluateTrajectory(references.front(), trajectory, plot, *this));
         if (!plot.empty() && fs::exists(plot))
             files.emplace_back("snapshots/ate.png");
+        auto others = core::JsonValue::array();
+        for (size_t k = 1; k < references.size(); k++)
+            others.push(evaluateTrajectory(references[k], trajectory, {}, *this));
+        if (references.size() > 1)
+            metrics.set("other_references", others);
     }
     if (scorer)
     {

@@ -31,7 +31,8 @@ std::string SynthApp::usage()
     return "Usage: smap-synth --preset NAME --out DIR [--frames N] [--seed S] [--noise-free]\n"
            "                  [--no-rawlog] [--contact-sheet ROWS]\n"
            "       smap-synth --composite-onto TUM_DIR --people CUTOUT_DIR --out DIR [--config F]\n"
-           "                  [--set S.K=V]... [--people-count N] [--frames N] [--seed S] ...\n"
+           "                  [--set S.K=V]... [--ground-truth F] [--people-count N] [--frames N]\n"
+           "                  [--seed S] ...\n"
            "\n"
            "Renders a synthetic office with moving people (headless) and writes DIR in TUM RGB-D\n"
            "layout with ground truth: rgb/ depth/ labels/ instances/ dynamic/ objects/,\n"
@@ -47,7 +48,12 @@ std::string SynthApp::usage()
            "  --jpeg-quality Q  colour as JPEG of quality Q instead of PNG (smaller samples)\n"
            "  --composite-onto TUM_DIR  instead of rendering, walk people cut-outs (--people DIR,\n"
            "                --people-count N, default 2) through a real TUM folder with\n"
-           "                groundtruth.txt; --config/--set give its camera and depth factor\n"
+           "                groundtruth.txt; --config/--set give its camera and depth factor.\n"
+           "                The output is in the colour camera's geometry (depth registered to\n"
+           "                it when the camera preset has a [depth_camera], as 7scenes.ini does)\n"
+           "  --ground-truth F  the colour camera's poses to place the people with (default\n"
+           "                TUM_DIR/groundtruth.txt; for 7-Scenes TUM_DIR/groundtruth_sfm.txt,\n"
+           "                whose poses are the colour camera's); also the output's ground truth\n"
            "Camera: 640x480, fx = fy = 525, c = (319.5, 239.5); use config/synthetic.ini to read "
            "it.\n"
            "Exit codes: 0 ok, 1 internal error, 2 bad input.\n";
@@ -72,10 +78,15 @@ core::PinholeCamera compositeOnto(const CommandLine& cl, size_t frames, uint32_t
 
     io::TumSource source(folder, params);
     source.setMinLoggingLevel(log.getMinLoggingLevel());
-    if (source.groundTruthPath().empty())
+    // The poses must be the colour camera's: the frames come on its grid (depth registered to
+    // it when the configuration has a [depth_camera]), and a person standing still must stay
+    // still against the background seen in colour.
+    const std::string posesPath = cl.value("ground-truth").value_or(source.groundTruthPath());
+    if (posesPath.empty())
         throw core::InputError(mrpt::format(
-            "'%s' has no groundtruth.txt: compositing needs the camera poses", folder.c_str()));
-    const core::Trajectory gt = io::readTumTrajectory(source.groundTruthPath());
+            "'%s' has no groundtruth.txt: compositing needs the camera poses (--ground-truth F)",
+            folder.c_str()));
+    const core::Trajectory gt = io::readTumTrajectory(posesPath);
     std::vector<double> tFrames, tGt;
     for (const auto& e : source.entries())
         tFrames.push_back(e.rgbTimestamp);
@@ -147,6 +158,7 @@ core::PinholeCamera compositeOnto(const CommandLine& cl, size_t frames, uint32_t
     };
     auto meta = core::JsonValue::object();
     meta.set("generator", "smap-synth").set("mode", "composite").set("source", folder);
+    meta.set("poses", posesPath);
     meta.set("people_cutouts", *peopleDir).set("people", static_cast<int64_t>(count));
     meta.set("seed", static_cast<int64_t>(seed)).set("frames", static_cast<uint64_t>(frames));
     meta.set("depth_factor", SyntheticSequenceWriter::kDepthFactor);
@@ -176,6 +188,7 @@ int SynthApp::run(const std::vector<std::string>& args, std::ostream& out)
     CommandLine cl;
     cl.option("preset").option("out").option("frames").option("seed").option("contact-sheet");
     cl.option("composite-onto")
+        .option("ground-truth")
         .option("people")
         .option("people-count")
         .option("config")
@@ -222,9 +235,11 @@ int SynthApp::run(const std::vector<std::string>& args, std::ostream& out)
     }
     else
     {
-        if (cl.has("config") || cl.has("set") || cl.has("people") || cl.has("people-count"))
+        if (cl.has("config") || cl.has("set") || cl.has("people") || cl.has("people-count") ||
+            cl.has("ground-truth"))
             throw core::InputError(
-                "--config, --set, --people and --people-count apply to --composite-onto only");
+                "--config, --set, --people, --people-count and --ground-truth apply to "
+                "--composite-onto only");
         sim::GeneratorOptions options;
         if (const auto size = cl.value("size"))
         {
