@@ -62,7 +62,11 @@ TEST(InputPreset, BuiltInPresetsAreTheConfigFilesAsBuilt)
     EXPECT_EQ(fr3.tum_depth_factor, 5000.0);
     const auto kitchen = parametersFor(dir / "7scenes-chess");
     ASSERT_TRUE(kitchen.camera.has_value());
-    EXPECT_EQ(kitchen.camera->fx, 585.0);
+    EXPECT_EQ(kitchen.camera->fx, 526.3);  // the colour camera
+    ASSERT_TRUE(kitchen.depth_camera.has_value());
+    EXPECT_EQ(kitchen.depth_camera->fx, 585.0);
+    EXPECT_NEAR(kitchen.T_colour_depth.translation().x(), -0.025, 1e-12);
+    EXPECT_TRUE(kitchen.T_colour_depth.linear().isIdentity(1e-12));
     EXPECT_EQ(kitchen.tum_depth_factor, 1000.0);
     const auto bonn = parametersFor(dir / "rgbd_bonn_crowd2");
     ASSERT_TRUE(bonn.camera.has_value());

@@ -2,12 +2,16 @@
 
 #include <filesystem>
 #include <fstream>
+#include <opencv2/core.hpp>
 #include <sstream>
 
 #include "SyntheticRgbd.h"
 #include "TestData.h"
 #include "smap/core/InputError.h"
+#include "smap/core/TrackedConfig.h"
 #include "smap/io/RawlogSource.h"
+#include "smap/io/TumSource.h"
+#include "smap/pipeline/InputPreset.h"
 #include "smap/pipeline/Tum2RawlogApp.h"
 
 using namespace smap;
@@ -72,10 +76,26 @@ TEST(Tum2RawlogApp, FolderWithoutCameraUsesItsOwnCameraIniOrThePresetItsNameSays
     EXPECT_NEAR(depthAt(f), expectedDepth(640, 480, 5000.0), 1e-3);
     test::writeTumFolder(dir / "7scenes-office", 1, 0.0, false, 640, 480);
     f = convertFirst(dir / "7scenes-office");
-    EXPECT_EQ(f.camera.fx, 585.0);
-    EXPECT_NEAR(depthAt(f), expectedDepth(640, 480, 1000.0), 1e-3);
+    // 7-Scenes: the colour camera, depth registered to it from the 585 px depth camera, in
+    // millimetres; read back it is the folder read with the same preset.
+    EXPECT_EQ(f.camera.fx, 526.3);
+    const auto sevenScenesFrame = [&](double factor)
+    {
+        core::TrackedConfig cfg;
+        const auto preset = pipeline::presetForInput(dir / "7scenes-office");
+        cfg.loadText(preset->text, preset->source);
+        io::FrameSourceParameters p;
+        cfg.load(p);
+        p.tum_depth_factor = factor;
+        io::TumSource folder(dir / "7scenes-office", p);
+        return folder.next().value();
+    };
+    EXPECT_EQ(cv::norm(f.depth, sevenScenesFrame(1000.0).depth, cv::NORM_INF), 0.0);
+    // The pattern's 5000 - 33912 raw units as millimetres (5 - 34 m), then at 5000 per metre.
+    EXPECT_GT(cv::mean(f.depth, f.depth > 0.0F)[0], 10.0);
     f = convertFirst(dir / "7scenes-office", {"--set", "tum.depth_factor=5000"});
-    EXPECT_NEAR(depthAt(f), expectedDepth(640, 480, 5000.0), 1e-3);
+    EXPECT_EQ(cv::norm(f.depth, sevenScenesFrame(5000.0).depth, cv::NORM_INF), 0.0);
+    EXPECT_LT(cv::mean(f.depth, f.depth > 0.0F)[0], 7.0);
 
     // A [camera] of the user's replaces the preset whole (no distortion inherited from it).
     std::ofstream(dir / "cam640.ini")
