@@ -96,12 +96,14 @@ for p in $presets; do
 done
 seven="$shared/data/7scenes-redkitchen"
 if [ -d "$seven" ] && [ -d "$shared/data/people" ] && [ "${SMAP_EVAL_7SCENES:-1}" = 1 ]; then
-    comp="$cache/7scenes-people-1000"
+    # Composites are in the colour camera's geometry (registered depth, the colour camera's SfM
+    # poses as ground truth) and carry their own camera.ini; the twin is 7-Scenes itself,
+    # scored against the same SfM poses.
+    comp="$cache/7scenes-people-colour-1000"
     [ -f "$comp/groundtruth.txt" ] ||
         "$bin/smap-synth" --composite-onto "$seven" --people "$shared/data/people" \
-            --config "$root/config/7scenes.ini" --frames 1000 --people-count 4 \
-            --out "$comp" --no-rawlog >/dev/null
-    trmse=$(run 7scenes "$seven" "$seven/groundtruth.txt" strong "$root/config/7scenes.ini" "$@" | cut -d' ' -f1)
-    row 7scenes-people "$comp" "$comp/groundtruth.txt" "$root/config/7scenes.ini" "$trmse" \
-        --set tum.depth_factor=5000 "$@"
+            --config "$root/config/7scenes.ini" --ground-truth "$seven/groundtruth_sfm.txt" \
+            --frames 1000 --people-count 4 --out "$comp" --no-rawlog >/dev/null
+    trmse=$(run 7scenes "$seven" "$seven/groundtruth_sfm.txt" strong "$root/config/7scenes.ini" "$@" | cut -d' ' -f1)
+    row 7scenes-people "$comp" "$comp/groundtruth.txt" "$comp/camera.ini" "$trmse" "$@"
 fi

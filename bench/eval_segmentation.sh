@@ -61,14 +61,14 @@ echo "| sequence | frames | segmenter | class | frames present | TP / FN / FP / 
 echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
 seven="$shared/data/7scenes-redkitchen"
 if [ -d "$seven" ] && [ -d "$shared/data/people" ] && [ "${SMAP_EVAL_7SCENES:-1}" = 1 ]; then
-    comp="$cache/7scenes-people-1000"
+    comp="$cache/7scenes-people-colour-1000"
     [ -f "$comp/groundtruth.txt" ] ||
         "$bin/smap-synth" --composite-onto "$seven" --people "$shared/data/people" \
-            --config "$root/config/7scenes.ini" --frames 1000 --people-count 4 \
-            --out "$comp" --no-rawlog >/dev/null
+            --config "$root/config/7scenes.ini" --ground-truth "$seven/groundtruth_sfm.txt" \
+            --frames 1000 --people-count 4 --out "$comp" --no-rawlog >/dev/null
     # Labels there: 15 on people, 255 (unknown) elsewhere, which is "not person": score all.
-    rows 7scenes-people "$comp" person none --config "$root/config/7scenes.ini" \
-        --set tum.depth_factor=5000 "$@"
+    # The composite is registered already: its own camera.ini, not 7scenes.ini.
+    rows 7scenes-people "$comp" person none --config "$comp/camera.ini" "$@"
 fi
 for p in $presets; do
     dir="$cache/$p-300"

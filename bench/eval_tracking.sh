@@ -2,7 +2,9 @@
 # Tracking accuracy table (issue: ORB-SLAM-style tracking). Renders the synthetic presets
 # (cached under $SMAP_EVAL_CACHE, default /tmp/smap-eval-cache), runs semantic-mapper on each
 # and on ../shared/data/7scenes-redkitchen, and prints ATE RMSE / frames tracked per sequence.
-# Optional: SMAP_OPEN3D=1 also runs Open3D's RGB-D odometry on 7-Scenes (python3-open3d);
+# Optional: SMAP_PEERS=1 also runs the peers on 7-Scenes: OpenCV's RgbdOdometry
+# (build/bin/peer_rgbd_odometry) and Open3D's RGB-D odometry (python3-open3d), scored against
+# both 7-Scenes references as ours is;
 # SMAP_EVAL_SEEDS="1 2 3" renders each preset with those smap-synth seeds (other scenes,
 # people and camera paths; default 1), rows named PRESET-sSEED for seeds other than 1.
 # Usage: bench/eval_tracking.sh [BUILD_DIR] [extra semantic-mapper args...]
@@ -49,12 +51,29 @@ for p in $presets; do
         run_one "$name" "$dir" "$dir/groundtruth.txt" --config "$root/config/synthetic.ini" "$@"
     done
 done
+# 7-Scenes against both of its references: the SfM one (groundtruth_sfm.txt, the colour
+# camera's poses) is the row, KinectFusion's (groundtruth.txt, the depth camera's) follows.
+both_references() {  # NAME TRAJECTORY
+    for ref in groundtruth_sfm groundtruth; do
+        printf '  %-28s ATE RMSE vs %-16s %s m\n' "$1" "$ref.txt" \
+            "$("$bin/smap-eval" ate "$seven/$ref.txt" "$2" | awk '/rmse/ {print $2}')"
+    done
+}
 seven="$root/../shared/data/7scenes-redkitchen"
 if [ -d "$seven" ]; then
-    run_one 7scenes-redkitchen "$seven" "$seven/groundtruth.txt" --config "$root/config/7scenes.ini" "$@"
-    if [ "${SMAP_OPEN3D:-0}" = 1 ]; then
-        /usr/bin/python3 "$root/bench/open3d_rgbd_odometry.py" "$seven" "$cache/open3d-7scenes.txt"
-        echo -n "open3d-7scenes ATE: "
-        "$bin/smap-eval" ate "$seven/groundtruth.txt" "$cache/open3d-7scenes.txt" | sed -n 2p
+    run_one 7scenes-redkitchen "$seven" "$seven/groundtruth_sfm.txt" --config "$root/config/7scenes.ini" "$@"
+    both_references "ours" "$cache/out-7scenes-redkitchen/trajectory.txt"
+    # Peers on the same input (SMAP_PEERS=1): OpenCV's RgbdOdometry reads the frames through our
+    # FrameSource (registered as ours are) and exports them; Open3D reads that export.
+    if [ "${SMAP_PEERS:-${SMAP_OPEN3D:-0}}" = 1 ]; then
+        registered="$cache/7scenes-as-read"
+        rm -rf "$registered"
+        "$bin/peer_rgbd_odometry" "$seven" "$cache/opencv-7scenes.txt" \
+            --config "$root/config/7scenes.ini" --export "$registered" >/dev/null
+        both_references "OpenCV RgbdOdometry" "$cache/opencv-7scenes.txt"
+        /usr/bin/python3 "$root/bench/open3d_rgbd_odometry.py" "$registered" \
+            "$cache/open3d-7scenes.txt" --fx 526.3 --fy 531.0 --cx 318.7 --cy 239.3 \
+            --depth-factor 5000 >/dev/null
+        both_references "Open3D RGB-D odometry" "$cache/open3d-7scenes.txt"
     fi
 fi
