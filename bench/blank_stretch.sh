@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Robustness check: a copy of a TUM folder (symlinks) where frames [FIRST, FIRST+COUNT) are
 # replaced by a black colour image and an all-zero depth image; runs semantic-mapper on it and
-# prints the status of every frame around the stretch and the ATE of what was tracked.
+# prints the status of every frame around the stretch and the ATE of what was tracked against
+# each reference the folder has.
 # Usage: bench/blank_stretch.sh [TUM_DIR] [FIRST] [COUNT] [CONFIG]
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
@@ -41,4 +42,9 @@ done < "$src/associations.txt"
 awk -F, -v a="$first" -v n="$count" 'NR > 1 && $1 >= a - 2 && $1 < a + n + 40 { print $1, $9, $11 }' \
     "$work/out/frames.csv" | awk '{ if ($2 != prev) { print "frame " $1 ": " $2 " (inliers " $3 ")"; prev = $2 } }'
 /usr/bin/python3 -c "import json,sys; t=json.load(open(sys.argv[1]))['tracking']; print('frames with pose %d, lost %d, relocalisations %d' % (t['frames_with_pose'], t['frames_lost'], t['relocalisations']))" "$work/out/metrics.json"
-"$root/build/bin/smap-eval" ate "$src/groundtruth.txt" "$work/out/trajectory.txt" | sed -n 1,3p
+# Against every reference the folder has (7-Scenes: groundtruth_sfm.txt first, then
+# KinectFusion's groundtruth.txt).
+for gt in "$src"/groundtruth_*.txt "$src/groundtruth.txt"; do
+    [ -f "$gt" ] || continue
+    echo "ATE RMSE against $(basename "$gt"): $("$root/build/bin/smap-eval" ate "$gt" "$work/out/trajectory.txt" | awk '/rmse/ {print $2}') m"
+done

@@ -2,13 +2,15 @@
 """Tracking on variants of one real TUM folder: the inputs a user may bring that the test data
 does not show. For each variant, semantic-mapper runs deterministically (local mapping on the
 tracking thread, segmentation off, default dynamic filter) and the script prints the frames
-with a pose and the ATE against the variant's ground truth:
+with a pose and the ATE against each of the variant's references (every groundtruth*.txt of the
+folder: 7-Scenes' groundtruth_sfm.txt and groundtruth.txt). A [depth_camera] of the preset
+(depth not registered to colour) is halved or cropped with the images as [camera] is.
 
   forward-backward  the frames played forward then backward (a TUM list over the same files,
                     absolute paths): the way back must track against the map of the way out
   first-N           the first N frames as they are (the twin of the next three)
   half-size         the first N frames at half the size (colour 2x2-averaged, depth
-                    subsampled, intrinsics halved)
+                    subsampled, both cameras' intrinsics halved)
   holes-65535       the first N frames with depth holes written as 65535 (the original
                     7-Scenes files' hole value) instead of 0: must equal first-N
   via-rawlog        holes-65535 converted by tum2rawlog and read back: must equal first-N
@@ -20,6 +22,7 @@ Usage: bench/input_variants.py [BUILD_DIR] [--data DIR] [--config FILE] [--first
 Defaults: build, ../shared/data/7scenes-redkitchen, config/7scenes.ini, 300.
 """
 import argparse
+import glob
 import os
 import re
 import shutil
@@ -62,9 +65,23 @@ def write_lists(out, pairs):
         f.writelines("%s %s\n" % (p[2], p[3]) for p in pairs)
 
 
-def ground_truth(data):
-    """(timestamps array, lines) of data/groundtruth.txt."""
-    rows = read_list(os.path.join(data, "groundtruth.txt"))
+def references(folder):
+    """The reference trajectories' file names in `folder`: groundtruth_*.txt, then
+    groundtruth.txt (7-Scenes: the SfM one first)."""
+    names = sorted(f for f in os.listdir(folder) if f.startswith("groundtruth_") and
+                   f.endswith(".txt"))
+    return names + (["groundtruth.txt"] if os.path.exists(os.path.join(folder,
+                                                                        "groundtruth.txt")) else [])
+
+
+def copy_references(data, out):
+    for name in references(data):
+        shutil.copy(os.path.join(data, name), out)
+
+
+def ground_truth(data, name):
+    """(timestamps array, lines) of data/NAME."""
+    rows = read_list(os.path.join(data, name))
     return np.array([float(r[0]) for r in rows]), rows
 
 
@@ -85,7 +102,7 @@ def image_variant(data, out, n, transform):
                            o3d.geometry.Image(np.ascontiguousarray(d)))
         pairs.append((trgb, "rgb/" + name, tdepth, "depth/" + name))
     write_lists(out, pairs)
-    shutil.copy(os.path.join(data, "groundtruth.txt"), out)
+    copy_references(data, out)
 
 
 def list_variant(data, out, order, retime):
@@ -94,34 +111,36 @@ def list_variant(data, out, order, retime):
     original time (within 20 ms)."""
     os.makedirs(out)
     pairs = read_pairs(data)
-    stamps, gt = ground_truth(data)
-    rows, gt_rows = [], []
+    truths = {name: ground_truth(data, name) for name in references(data)}
+    rows, gt_rows = [], {name: [] for name in truths}
     for k, i in enumerate(order):
         trgb, rgb, tdepth, depth = pairs[i]
         if retime:
             t = "%.6f" % (float(pairs[0][0]) + k / 30.0)
-            j = int(np.argmin(np.abs(stamps - float(trgb))))
-            if abs(stamps[j] - float(trgb)) < 0.02:
-                gt_rows.append(" ".join([t] + gt[j][1:]) + "\n")
+            for name, (stamps, gt) in truths.items():
+                j = int(np.argmin(np.abs(stamps - float(trgb))))
+                if abs(stamps[j] - float(trgb)) < 0.02:
+                    gt_rows[name].append(" ".join([t] + gt[j][1:]) + "\n")
             trgb = tdepth = t
         rows.append((trgb, os.path.join(data, rgb), tdepth, os.path.join(data, depth)))
     write_lists(out, rows)
     if retime:
-        with open(os.path.join(out, "groundtruth.txt"), "w") as f:
-            f.writelines(gt_rows)
+        for name, lines in gt_rows.items():
+            with open(os.path.join(out, name), "w") as f:
+                f.writelines(lines)
     else:
-        shutil.copy(os.path.join(data, "groundtruth.txt"), out)
+        copy_references(data, out)
 
 
 def camera_args(config):
-    """[camera] and [tum] of a preset, as --set arguments one can change."""
+    """[camera], [depth_camera] and [tum] of a preset, as --set arguments one can change."""
     values, section = {}, None
     with open(config) as f:
         for line in f:
             line = line.split("#")[0].strip()
             if line.startswith("["):
                 section = line.strip("[]")
-            elif "=" in line and section in ("camera", "tum"):
+            elif "=" in line and section in ("camera", "depth_camera", "tum"):
                 k, v = (s.strip() for s in line.split("=", 1))
                 values["%s.%s" % (section, k)] = v
     return values
@@ -134,15 +153,20 @@ def run(build, seq, config, out, overrides, extra=()):
     for k, v in overrides.items():
         args += ["--set", "%s=%s" % (k, v)]
     subprocess.run(args + list(extra), check=True, stdout=subprocess.DEVNULL)
-    gt = seq[:-len(".rawlog")] + "_groundtruth.txt" if seq.endswith(".rawlog") else \
-        os.path.join(seq, "groundtruth.txt")
-    ate = subprocess.run([os.path.join(build, "bin", "smap-eval"), "ate", gt,
-                          os.path.join(out, "trajectory.txt")],
-                         check=True, capture_output=True, text=True).stdout
-    rmse = float(re.search(r"rmse\s+([0-9.]+)", ate).group(1))
+    if seq.endswith(".rawlog"):  # tum2rawlog wrote NAME_groundtruth*.txt beside it
+        stem = seq[:-len(".rawlog")]
+        gts = sorted(glob.glob(stem + "_groundtruth_*.txt")) + [stem + "_groundtruth.txt"]
+    else:
+        gts = [os.path.join(seq, name) for name in references(seq)]
+    rmses = []
+    for gt in gts:
+        ate = subprocess.run([os.path.join(build, "bin", "smap-eval"), "ate", gt,
+                              os.path.join(out, "trajectory.txt")],
+                             check=True, capture_output=True, text=True).stdout
+        rmses.append((os.path.basename(gt), float(re.search(r"rmse\s+([0-9.]+)", ate).group(1))))
     with open(os.path.join(out, "trajectory.txt")) as f:
         posed = sum(1 for l in f if l.strip() and not l.startswith("#"))
-    return posed, rmse
+    return posed, rmses
 
 
 def main():
@@ -158,14 +182,18 @@ def main():
     n = min(a.first, n_all)
     cam = camera_args(a.config)
     w, h = int(cam["camera.width"]), int(cam["camera.height"])
-    half = dict(cam)
-    half.update({"camera.width": w // 2, "camera.height": h // 2,
-                 "camera.fx": float(cam["camera.fx"]) / 2, "camera.fy": float(cam["camera.fy"]) / 2,
-                 "camera.cx": (float(cam["camera.cx"]) - 0.5) / 2,
-                 "camera.cy": (float(cam["camera.cy"]) - 0.5) / 2})
+    half, crop = dict(cam), dict(cam)
     top = (h - h * 9 // 12) // 2 if w * 3 == h * 4 else 0
-    crop = dict(cam)
-    crop.update({"camera.height": h - 2 * top, "camera.cy": float(cam["camera.cy"]) - top})
+    for section in ("camera", "depth_camera"):
+        if section + ".fx" not in cam:
+            continue
+        c = lambda key: float(cam["%s.%s" % (section, key)])
+        half.update({section + ".width": int(c("width")) // 2,
+                     section + ".height": int(c("height")) // 2,
+                     section + ".fx": c("fx") / 2, section + ".fy": c("fy") / 2,
+                     section + ".cx": (c("cx") - 0.5) / 2, section + ".cy": (c("cy") - 0.5) / 2})
+        crop.update({section + ".height": int(c("height")) - 2 * top,
+                     section + ".cy": c("cy") - top})
 
     def halve(c, d):
         c = c[: h // 2 * 2, : w // 2 * 2].astype(np.float32)
@@ -202,7 +230,7 @@ def main():
         trajectories = {}
         for name, seq, overrides, extra in rows:
             out = p("out-" + name)
-            posed, rmse = run(a.build, seq, a.config, out, overrides, extra)
+            posed, rmses = run(a.build, seq, a.config, out, overrides, extra)
             frames = {"forward-backward": 2 * n_all, "stride-2": (n_all + 1) // 2,
                       "stride-3": (n_all + 2) // 3, "stride-4": (n_all + 3) // 4}.get(name, n)
             with open(os.path.join(out, "trajectory.txt")) as f:
@@ -211,8 +239,10 @@ def main():
             if name in ("holes-65535", "via-rawlog"):
                 same = ", trajectory identical to first-%d: %s" % (
                     n, "yes" if trajectories[name] == trajectories["first-%d" % n] else "NO")
-            print("%-17s %4d / %4d frames with a pose, ATE RMSE %.1f mm%s"
-                  % (name, posed, frames, 1000 * rmse, same), flush=True)
+            print("%-17s %4d / %4d frames with a pose, ATE RMSE %s%s"
+                  % (name, posed, frames,
+                     ", ".join("%.1f mm vs %s" % (1000 * r, g) for g, r in rmses), same),
+                  flush=True)
 
 
 if __name__ == "__main__":
