@@ -3,7 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
-#include <limits>
+#include <cstdint>
+#include <cstring>
 #include <opencv2/calib3d.hpp>
 
 namespace smap::io
@@ -107,10 +108,7 @@ cv::Mat DepthRegistration::registerDepth(const cv::Mat& depth) const
 {
     CV_Assert(depth.type() == CV_32FC1);
     CV_Assert(depth.cols == depthCamera_.width && depth.rows == depthCamera_.height);
-    // Every pixel starts "infinitely far" so that the nearest surface wins by a plain minimum
-    // (no branch on unset pixels); those no depth pixel reached become 0 at the end.
-    constexpr float kUnreached = std::numeric_limits<float>::max();
-    cv::Mat out(colourCamera_.height, colourCamera_.width, CV_32FC1, cv::Scalar(kUnreached));
+    cv::Mat out = cv::Mat::zeros(colourCamera_.height, colourCamera_.width, CV_32FC1);
     auto* dst = out.ptr<float>();
     const size_t cols = static_cast<size_t>(depth.cols);
     // Per row, first where each pixel lands (a branch-free loop the compiler vectorises), then
@@ -122,9 +120,6 @@ cv::Mat DepthRegistration::registerDepth(const cv::Mat& depth) const
         projectRow(row, cols * static_cast<size_t>(v), cols, us.data(), vs.data(), zs.data());
         scatterRow(row, us.data(), vs.data(), zs.data(), cols, dst);
     }
-    const size_t n = out.total();
-    for (size_t i = 0; i < n; i++)
-        dst[i] = dst[i] == kUnreached ? 0.0F : dst[i];
     return out;
 }
 
@@ -155,10 +150,18 @@ void DepthRegistration::scatterRow(const float* depth, const float* us, const fl
     for (size_t u = 0; u < cols; u++)
     {
         const float uf = us[u], vf = vs[u], z = zs[u];
-        if (!(depth[u] > 0.0F && z > 0.0F && uf >= 0.0F && vf >= 0.0F && uf < width && vf < height))
+        if (!(depth[u] > 0.0F && z > 0.0F && uf >= 0.0F && vf >= 0.0F && uf < width &&
+              vf < height))
             continue;
         float& d = dst[static_cast<ptrdiff_t>(vf) * stride + static_cast<ptrdiff_t>(uf)];
-        d = std::min(d, z);  // the nearest surface wins
+        // The nearest surface wins, without a branch on pixels still empty (0): positive
+        // floats order as their bit patterns do, and minus one (unsigned) turns an empty
+        // pixel's 0 into the largest value.
+        uint32_t current = 0, candidate = 0;
+        std::memcpy(&current, &d, sizeof d);
+        std::memcpy(&candidate, &z, sizeof z);
+        const uint32_t nearest = std::min(current - 1U, candidate - 1U) + 1U;
+        std::memcpy(&d, &nearest, sizeof d);
     }
 }
 }  // namespace smap::io
