@@ -150,8 +150,7 @@ void DepthRegistration::scatterRow(const float* depth, const float* us, const fl
     for (size_t u = 0; u < cols; u++)
     {
         const float uf = us[u], vf = vs[u], z = zs[u];
-        if (!(depth[u] > 0.0F && z > 0.0F && uf >= 0.0F && vf >= 0.0F && uf < width &&
-              vf < height))
+        if (!(depth[u] > 0.0F && z > 0.0F && uf >= 0.0F && vf >= 0.0F && uf < width && vf < height))
             continue;
         float& d = dst[static_cast<ptrdiff_t>(vf) * stride + static_cast<ptrdiff_t>(uf)];
         // The nearest surface wins, without a branch on pixels still empty (0): positive
