@@ -4,10 +4,13 @@
 #include <mrpt/math/CQuaternion.h>
 #include <mrpt/poses/CPose3DQuat.h>
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <system_error>
 
 #include "smap/core/AtomicFile.h"
 #include "smap/core/InputError.h"
@@ -223,5 +226,25 @@ void writeTumTrajectory(const std::string& path, const core::Trajectory& traject
     for (const auto& p : trajectory)
         out.stream() << formatTumPose(p) << "\n";
     out.commit();
+}
+std::vector<std::string> referenceTrajectories(const std::string& groundTruth)
+{
+    if (groundTruth.empty())
+        return {};
+    const std::filesystem::path gt(groundTruth);
+    const std::string prefix = gt.stem().string() + "_";
+    std::vector<std::string> others;
+    std::error_code ec;
+    const auto folder = gt.parent_path().empty() ? std::filesystem::path(".") : gt.parent_path();
+    for (const auto& e : std::filesystem::directory_iterator(folder, ec))
+    {
+        const std::string name = e.path().filename().string();
+        if (e.is_regular_file(ec) && e.path().extension() == ".txt" &&
+            name.compare(0, prefix.size(), prefix) == 0)
+            others.push_back(e.path().string());
+    }
+    std::sort(others.begin(), others.end());
+    others.insert(others.begin(), groundTruth);
+    return others;
 }
 }  // namespace smap::io

@@ -157,19 +157,13 @@ TumToRawlogConverter::Result TumToRawlogConverter::convert(TumSource& source, do
     {
         // groundtruth.txt as <name>_groundtruth.txt, and any further reference beside it
         // (groundtruth_sfm.txt) as <name>_groundtruth_sfm.txt: the rawlog keeps them all.
-        const fs::path folder = fs::path(gt).parent_path();
-        for (const auto& e : fs::directory_iterator(folder))
+        for (const auto& reference : referenceTrajectories(gt))
         {
-            const std::string name = e.path().filename().string();
-            const bool reference =
-                name == "groundtruth.txt" ||
-                (name.rfind("groundtruth_", 0) == 0 && e.path().extension() == ".txt");
-            if (!reference || !e.is_regular_file())
-                continue;
+            const std::string name = fs::path(reference).filename().string();
             const std::string copy = (parent / (out.stem().string() + "_" + name)).string();
-            writeTumTrajectory(copy, readTumTrajectory(e.path().string()),
-                               "ground truth from " + e.path().string());
-            if (name == "groundtruth.txt")
+            writeTumTrajectory(copy, readTumTrajectory(reference),
+                               "ground truth from " + reference);
+            if (reference == gt)
                 result.groundTruthPath = copy;
         }
     }

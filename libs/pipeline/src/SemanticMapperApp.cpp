@@ -98,30 +98,6 @@ core::JsonValue evaluateTrajectory(const std::string& groundTruth,
     return ev;
 }
 
-/// The reference trajectories of an input whose own is `groundTruth`: it, then every
-/// "<stem>_*.txt" beside it in name order (e.g. 7-Scenes' groundtruth_sfm.txt beside
-/// groundtruth.txt). Empty when the input has none.
-std::vector<std::string> referencesBeside(const std::string& groundTruth)
-{
-    if (groundTruth.empty())
-        return {};
-    const fs::path gt(groundTruth);
-    const std::string prefix = gt.stem().string() + "_";
-    std::vector<std::string> others;
-    std::error_code ec;
-    for (const auto& e :
-         fs::directory_iterator(gt.parent_path().empty() ? "." : gt.parent_path(), ec))
-    {
-        const std::string name = e.path().filename().string();
-        if (e.is_regular_file(ec) && e.path().extension() == ".txt" &&
-            name.compare(0, prefix.size(), prefix) == 0)
-            others.push_back(e.path().string());
-    }
-    std::sort(others.begin(), others.end());
-    others.insert(others.begin(), groundTruth);
-    return others;
-}
-
 /// Stops a run whose first frames are all unreadable (the wrong folder, a camera that does not
 /// fit the images): nothing after them is likely to be readable either.
 void requireReadableStart(const RunLog& log, const std::string& input)
@@ -283,7 +259,7 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
     source->setMinLoggingLevel(getMinLoggingLevel());
     core::prepareOutputDirectory(outDir, "--out");
     const std::vector<std::string> references =
-        gtPaths.empty() ? referencesBeside(source->groundTruthPath()) : gtPaths;
+        gtPaths.empty() ? io::referenceTrajectories(source->groundTruthPath()) : gtPaths;
     if (gtLabels.empty())
         gtLabels = KeyFrameScorer::findFor(input);
 

@@ -45,6 +45,11 @@ std::vector<TumAssociationEntry> readTumAssociations(const std::string& path,
                                                      std::vector<std::string>* badLines = nullptr);
 core::Trajectory readTumTrajectory(const std::string& path);
 
+/// The reference trajectories of an input whose own is `groundTruth`: it first, then every
+/// "<stem>_*.txt" beside it in name order (7-Scenes' groundtruth_sfm.txt beside groundtruth.txt;
+/// a converted rawlog's NAME_groundtruth_sfm.txt beside NAME_groundtruth.txt). Empty for "".
+std::vector<std::string> referenceTrajectories(const std::string& groundTruth);
+
 /// One "timestamp tx ty tz qx qy qz qw" line per pose, every number at round-trip precision,
 /// quaternion with qw >= 0. Written atomically (temporary file, then rename).
 void writeTumTrajectory(const std::string& path, const core::Trajectory& trajectory,
