@@ -17,12 +17,12 @@
 #include <vector>
 
 #include "BenchStats.h"
+#include "smap/apps/AppMain.h"
+#include "smap/apps/CommandLine.h"
 #include "smap/core/InputError.h"
 #include "smap/core/TrackedConfig.h"
 #include "smap/dynamic/DynamicFilter.h"
 #include "smap/io/FrameSource.h"
-#include "smap/pipeline/AppMain.h"
-#include "smap/pipeline/CommandLine.h"
 #include "smap/sim/SequenceGenerator.h"
 #include "smap/slam/RgbdSlam.h"
 
@@ -49,7 +49,7 @@ const char* const kUsage =
 
 int run(int argc, char** argv)
 {
-    pipeline::CommandLine cl;  // strict: an unknown option is an error, not an input path
+    apps::CommandLine cl;  // strict: an unknown option is an error, not an input path
     cl.option("config").option("runs").option("frames").option("set").flag("help");
     cl.parse(std::vector<std::string>(argv + 1, argv + argc));
     if (cl.has("help"))
@@ -161,5 +161,5 @@ int run(int argc, char** argv)
 
 int main(int argc, char** argv)
 {
-    return smap::pipeline::runGuarded("bench_dynamic", std::cerr, [&] { return run(argc, argv); });
+    return smap::apps::runGuarded("bench_dynamic", std::cerr, [&] { return run(argc, argv); });
 }

@@ -15,11 +15,11 @@
 #include <vector>
 
 #include "BenchStats.h"
+#include "smap/apps/AppMain.h"
+#include "smap/apps/CommandLine.h"
 #include "smap/core/InputError.h"
 #include "smap/core/TrackedConfig.h"
 #include "smap/io/FrameSource.h"
-#include "smap/pipeline/AppMain.h"
-#include "smap/pipeline/CommandLine.h"
 #include "smap/slam/RgbdSlam.h"
 
 using namespace smap;
@@ -38,13 +38,13 @@ const char* const kUsage =
 
 int run(const std::vector<std::string>& args)
 {
-    pipeline::CommandLine cl;  // strict: an unknown option is an error, not an input path
+    apps::CommandLine cl;  // strict: an unknown option is an error, not an input path
     cl.option("config").option("runs").option("max-frames").flag("sync").flag("help");
     cl.parse(args);
     if (cl.has("help"))
     {
         std::cout << kUsage;
-        return pipeline::kExitOk;
+        return apps::kExitOk;
     }
     if (cl.positionals().size() > 1)
         throw core::InputError("bench_tracking takes at most one input (see --help)");
@@ -114,14 +114,14 @@ int run(const std::vector<std::string>& args)
         "ms, extraction + tracking %.2f ms\n",
         runs, median(runFps), median(runExtract), median(runMatch), median(runOpt),
         median(runTrack), median(runTotal));
-    return pipeline::kExitOk;
+    return apps::kExitOk;
 }
 }  // namespace
 
 int main(int argc, char** argv)
 {
-    return smap::pipeline::runGuarded("bench_tracking", std::cerr,
-                                      [&] {
-                                          return run({argv + 1, argv + argc});
-                                      });
+    return smap::apps::runGuarded("bench_tracking", std::cerr,
+                                  [&] {
+                                      return run({argv + 1, argv + argc});
+                                  });
 }

@@ -29,6 +29,8 @@
 #include <vector>
 
 #include "BenchStats.h"
+#include "smap/apps/AppMain.h"
+#include "smap/apps/CommandLine.h"
 #include "smap/core/InputError.h"
 #include "smap/core/LabelSet.h"
 #include "smap/mapping/DynamicRegionFinder.h"
@@ -36,8 +38,6 @@
 #include "smap/maps/CSemanticOctoMap.h"
 #include "smap/maps/CSemanticPointsMap.h"
 #include "smap/maps/MapSnapshot.h"
-#include "smap/pipeline/AppMain.h"
-#include "smap/pipeline/CommandLine.h"
 #include "smap/segmentation/SegmentationParameters.h"
 #include "smap/sim/SequenceGenerator.h"
 
@@ -77,7 +77,7 @@ const char* const kUsage =
 
 int run(int argc, char** argv)
 {
-    pipeline::CommandLine cl;
+    apps::CommandLine cl;
     cl.option("preset").option("frames").option("every").option("snapshots").option("espnet");
     cl.option("grow-pixels");
     cl.flag("noise-free").flag("help");
@@ -273,5 +273,5 @@ int run(int argc, char** argv)
 
 int main(int argc, char** argv)
 {
-    return smap::pipeline::runGuarded("eval_maps", std::cerr, [&] { return run(argc, argv); });
+    return smap::apps::runGuarded("eval_maps", std::cerr, [&] { return run(argc, argv); });
 }

@@ -26,13 +26,13 @@
 #include <string>
 #include <vector>
 
+#include "smap/apps/AppConfiguration.h"
+#include "smap/apps/AppMain.h"
+#include "smap/apps/CommandLine.h"
 #include "smap/core/InputError.h"
 #include "smap/core/Trajectory.h"
 #include "smap/io/FrameSource.h"
 #include "smap/io/TumTextFormats.h"
-#include "smap/pipeline/AppConfiguration.h"
-#include "smap/pipeline/AppMain.h"
-#include "smap/pipeline/CommandLine.h"
 
 using namespace smap;
 
@@ -93,13 +93,13 @@ OdometryFrame prepare(const core::RgbdFrame& f)
 
 int run(const std::vector<std::string>& args)
 {
-    pipeline::CommandLine cl;
+    apps::CommandLine cl;
     cl.option("config").option("set").option("max-frames").option("export").flag("help");
     cl.parse(args);
     if (cl.has("help"))
     {
         std::cout << kUsage;
-        return pipeline::kExitOk;
+        return apps::kExitOk;
     }
     if (cl.positionals().size() != 2)
         throw core::InputError("peer_rgbd_odometry needs INPUT and OUT.txt (see --help)");
@@ -107,7 +107,7 @@ int run(const std::vector<std::string>& args)
     const std::string outPath = cl.positionals()[1];
     io::FrameSourceParameters params;
     mrpt::system::COutputLogger log("peer_rgbd_odometry");
-    pipeline::loadAppConfiguration(cl, {&params}, input, log);
+    apps::loadAppConfiguration(cl, {&params}, input, log);
     params.max_frames = static_cast<size_t>(cl.integer("max-frames", 0));
     auto source = io::openFrameSource(input, params);
     source->setMinLoggingLevel(mrpt::system::LVL_WARN);
@@ -159,14 +159,14 @@ int run(const std::vector<std::string>& args)
     io::writeTumTrajectory(outPath, trajectory, "OpenCV RgbdOdometry on " + input);
     std::printf("%zu frames, %zu odometry failures (pose kept), trajectory in %s\n", frames,
                 failures, outPath.c_str());
-    return pipeline::kExitOk;
+    return apps::kExitOk;
 }
 }  // namespace
 
 int main(int argc, char** argv)
 {
-    return smap::pipeline::runGuarded("peer_rgbd_odometry", std::cerr,
-                                      [&] {
-                                          return run({argv + 1, argv + argc});
-                                      });
+    return smap::apps::runGuarded("peer_rgbd_odometry", std::cerr,
+                                  [&] {
+                                      return run({argv + 1, argv + argc});
+                                  });
 }

@@ -15,7 +15,7 @@ packages=(
     # headless OpenGL (EGL on Mesa) for the synthetic renderer
     libegl1 libegl-mesa0 libgl1-mesa-dri
     # tests (independent ATE reference) and developer checks (format, static analysis, fuzzing)
-    python3 python3-numpy clang clang-format clang-tidy libclang-rt-14-dev
+    python3 python3-numpy clang clang-format clang-tidy libclang-rt-14-dev universal-ctags
     # MRPT's own tools, to check that they read our annotated rawlogs (rawlog-edit, RawLogViewer)
     mrpt-apps
 )

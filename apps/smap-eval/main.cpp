@@ -1,15 +1,15 @@
-// smap-eval: thin entry point; the logic is smap::pipeline::EvalApp.
+// smap-eval: thin entry point; the logic is smap::apps::EvalApp.
 #include <iostream>
 
-#include "smap/pipeline/AppMain.h"
-#include "smap/pipeline/EvalApp.h"
+#include "smap/apps/AppMain.h"
+#include "smap/apps/EvalApp.h"
 
 int main(int argc, char** argv)
 {
-    return smap::pipeline::runGuarded("smap-eval", std::cerr,
-                                      [&]
-                                      {
-                                          smap::pipeline::EvalApp app;
-                                          return app.run({argv + 1, argv + argc}, std::cout);
-                                      });
+    return smap::apps::runGuarded("smap-eval", std::cerr,
+                                  [&]
+                                  {
+                                      smap::apps::EvalApp app;
+                                      return app.run({argv + 1, argv + argc}, std::cout);
+                                  });
 }

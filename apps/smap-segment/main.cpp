@@ -1,15 +1,15 @@
-// smap-segment: thin entry point; the logic is smap::pipeline::SegmentApp.
+// smap-segment: thin entry point; the logic is smap::apps::SegmentApp.
 #include <iostream>
 
-#include "smap/pipeline/AppMain.h"
-#include "smap/pipeline/SegmentApp.h"
+#include "smap/apps/AppMain.h"
+#include "smap/apps/SegmentApp.h"
 
 int main(int argc, char** argv)
 {
-    return smap::pipeline::runGuarded("smap-segment", std::cerr,
-                                      [&]
-                                      {
-                                          smap::pipeline::SegmentApp app;
-                                          return app.run({argv + 1, argv + argc}, std::cout);
-                                      });
+    return smap::apps::runGuarded("smap-segment", std::cerr,
+                                  [&]
+                                  {
+                                      smap::apps::SegmentApp app;
+                                      return app.run({argv + 1, argv + argc}, std::cout);
+                                  });
 }

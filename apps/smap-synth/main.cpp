@@ -1,15 +1,15 @@
-// smap-synth: thin entry point; the logic is smap::pipeline::SynthApp.
+// smap-synth: thin entry point; the logic is smap::apps::SynthApp.
 #include <iostream>
 
-#include "smap/pipeline/AppMain.h"
-#include "smap/pipeline/SynthApp.h"
+#include "smap/apps/AppMain.h"
+#include "smap/apps/SynthApp.h"
 
 int main(int argc, char** argv)
 {
-    return smap::pipeline::runGuarded("smap-synth", std::cerr,
-                                      [&]
-                                      {
-                                          smap::pipeline::SynthApp app;
-                                          return app.run({argv + 1, argv + argc}, std::cout);
-                                      });
+    return smap::apps::runGuarded("smap-synth", std::cerr,
+                                  [&]
+                                  {
+                                      smap::apps::SynthApp app;
+                                      return app.run({argv + 1, argv + argc}, std::cout);
+                                  });
 }

@@ -1,0 +1,21 @@
+// smap-synth: writes a synthetic RGB-D sequence with full ground truth (TUM layout + labels,
+// instances, dynamic masks, object trajectories, meta.json), its rawlog, and a contact sheet.
+#pragma once
+
+#include <mrpt/system/COutputLogger.h>
+
+#include <ostream>
+#include <string>
+#include <vector>
+
+namespace smap::apps
+{
+class SynthApp : public mrpt::system::COutputLogger
+{
+public:
+    SynthApp();
+    /// Arguments after the program name; returns an ExitCode, throws core::InputError.
+    int run(const std::vector<std::string>& args, std::ostream& out);
+    static std::string usage();
+};
+}  // namespace smap::apps

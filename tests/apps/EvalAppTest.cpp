@@ -1,0 +1,154 @@
+#include <gtest/gtest.h>
+#include <mrpt/core/format.h>
+
+#include <filesystem>
+#include <fstream>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <sstream>
+
+#include "TestData.h"
+#include "smap/apps/EvalApp.h"
+#include "smap/core/InputError.h"
+
+using namespace smap;
+
+namespace
+{
+void writeFile(const std::string& path, const std::string& text)
+{
+    std::ofstream(path) << text;
+}
+}  // namespace
+
+TEST(EvalApp, AteWritesJsonAndPlot)
+{
+    test::TempDir dir;
+    // Ground truth on a square; the estimate is the same square shifted by 1 m in x with one
+    // pose 0.3 m off: after alignment the errors are known in closed form only roughly, but
+    // the maximum must sit on that pose and the RMSE must be non-zero.
+    std::string gt, est;
+    const double xy[5][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}, {0.5, 0.5}};
+    for (int i = 0; i < 5; i++)
+    {
+        gt += std::to_string(i) + " " + std::to_string(xy[i][0]) + " " + std::to_string(xy[i][1]) +
+              " 0 0 0 0 1\n";
+        est += std::to_string(i + 0.01) + " " +
+               std::to_string(xy[i][0] + 1 + (i == 4 ? 0.3 : 0.0)) + " " +
+               std::to_string(xy[i][1]) + " 0 0 0 0 1\n";
+    }
+    writeFile(dir / "gt.txt", gt);
+    writeFile(dir / "est.txt", est);
+    std::ostringstream out;
+    apps::EvalApp app;
+    EXPECT_EQ(app.run({"ate", dir / "gt.txt", dir / "est.txt", "--json", dir / "ate.json", "--plot",
+                       dir / "ate.png"},
+                      out),
+              0);
+    const std::string j = smap::test::readTextFile(dir / "ate.json");
+    for (const char* k : {"\"rmse\"", "\"mean\"", "\"median\"", "\"std\"", "\"min\"", "\"max\"",
+                          "\"pairs\": 5", "\"coverage\": 1"})
+        EXPECT_NE(j.find(k), std::string::npos) << k;
+    EXPECT_TRUE(std::filesystem::exists(dir / "ate.png"));
+    EXPECT_NE(out.str().find("rmse"), std::string::npos);
+    // Translating the outlier by 0.3 along x: the aligned errors are 0.3 * (4/5) on it and 0.3/5 on
+    // the others.
+    EXPECT_NE(out.str().find(mrpt::format("max     %.6f", 0.24)), std::string::npos) << out.str();
+}
+
+TEST(EvalApp, RpeAndArgumentErrors)
+{
+    test::TempDir dir;
+    std::string gt;
+    for (int i = 0; i < 40; i++)
+        gt += std::to_string(i * 0.1) + " " + std::to_string(i * 0.01) + " 0 0 0 0 0 1\n";
+    writeFile(dir / "gt.txt", gt);
+    std::ostringstream out;
+    apps::EvalApp app;
+    EXPECT_EQ(app.run({"rpe", dir / "gt.txt", dir / "gt.txt", "--delta", "5", "--delta-unit",
+                       "frames", "--json", dir / "rpe.json"},
+                      out),
+              0);
+    EXPECT_NE(smap::test::readTextFile(dir / "rpe.json").find("\"delta_unit\": \"frames\""),
+              std::string::npos);
+    EXPECT_THROW(app.run({"ate", dir / "gt.txt"}, out), core::InputError);
+    EXPECT_THROW(app.run({"rpe", dir / "gt.txt", dir / "gt.txt", "--plot", "x.png"}, out),
+                 core::InputError);
+    EXPECT_THROW(app.run({"ate", dir / "gt.txt", dir / "missing.txt"}, out), core::InputError);
+    EXPECT_THROW(app.run({"ate", dir / "gt.txt", dir / "gt.txt", "--max-dt", "abc"}, out),
+                 core::InputError);
+}
+
+TEST(EvalApp, KeypointsScoresDecisionsAgainstMasks)
+{
+    test::TempDir dir;
+    std::filesystem::create_directories(dir / "masks");
+    std::filesystem::create_directories(dir / "debug");
+    // Left half of a 10x10 image is dynamic.
+    cv::Mat mask(10, 10, CV_8UC1, cv::Scalar(0));
+    mask.colRange(0, 5).setTo(255);
+    ASSERT_TRUE(cv::imwrite(dir / "masks/000001.png", mask));
+    ASSERT_TRUE(cv::imwrite(dir / "masks/000002.png", mask));
+    ASSERT_TRUE(cv::imwrite(dir / "masks/000000.png", mask));
+    const std::string header =
+        "u,v,depth_m,residual_px,patch_error,flow,depth_test,region,isolated,was_dynamic,dynamic\n";
+    // Frame 0 was not evaluated: it must not count (its all-static rows would be misses).
+    writeFile(dir / "debug/000000.csv",
+              "# not evaluated (no previous frame): no decision was made\n" + header +
+                  "2,2,1,-1,-1,0,0,0,0,0\n");
+    // Frame 1: one of each outcome. Frame 2: two true positives, one true negative.
+    writeFile(dir / "debug/000001.csv", header +
+                                            "2.2,2,1,9,1,1,0,0,0,1\n"    // TP
+                                            "7,2,1,9,1,1,0,0,0,1\n"      // FP
+                                            "2,7.4,1,0.5,1,0,0,0,0,0\n"  // FN
+                                            "7,7,1,0.5,1,0,0,0,0,0\n");  // TN
+    writeFile(dir / "debug/000002.csv", header +
+                                            "1,1,1,9,1,1,0,0,0,1\n"
+                                            "4,9,1,9,1,0,1,0,0,1\n"
+                                            "9,9,1,0.1,1,0,0,0,0,0\n");
+    std::ostringstream out;
+    apps::EvalApp app;
+    ASSERT_EQ(app.run({"keypoints", dir / "masks", dir / "debug", "--json", dir / "k.json"}, out),
+              0);
+    EXPECT_NE(out.str().find("frames 2  recall 0.7500  precision 0.7500"), std::string::npos)
+        << out.str();
+    const std::string json = test::readTextFile(dir / "k.json");
+    EXPECT_NE(json.find("\"true_positives\": 3"), std::string::npos) << json;
+    EXPECT_NE(json.find("\"false_negatives\": 1"), std::string::npos) << json;
+
+    // An edge margin of 1 px leaves out the keypoints next to the mask edge (columns 4 and 5):
+    // frame 2's (4, 9) true positive; frame 1's are 2 or more px away.
+    std::ostringstream margin;
+    ASSERT_EQ(app.run({"keypoints", dir / "masks", dir / "debug", "--edge-margin", "1"}, margin),
+              0);
+    EXPECT_NE(margin.str().find("frames 2  recall 0.6667  precision 0.6667  (tp 2 fp 1 fn 1 tn "
+                                "2)  left out within 1 px of a mask edge: 1"),
+              std::string::npos)
+        << margin.str();
+    // 3 px: every keypoint of column 2 or 7 is near the edge too; only the corners' (1, 1)
+    // and (9, 9) stay.
+    std::ostringstream wide;
+    ASSERT_EQ(app.run({"keypoints", dir / "masks", dir / "debug", "--edge-margin", "3"}, wide), 0);
+    EXPECT_NE(wide.str().find("(tp 1 fp 0 fn 0 tn 1)  left out within 3 px of a mask edge: 5"),
+              std::string::npos)
+        << wide.str();
+    EXPECT_THROW(app.run({"keypoints", dir / "masks", dir / "debug", "--edge-margin", "-1"}, out),
+                 core::InputError);
+    EXPECT_THROW(app.run({"ate", dir / "a.txt", dir / "b.txt", "--edge-margin", "1"}, out),
+                 core::InputError);
+
+    // A keypoint outside the mask, or a missing mask, is an input error naming the file.
+    writeFile(dir / "debug/000003.csv", header + "12,2,1,9,1,1,0,0,0,1\n");
+    ASSERT_TRUE(cv::imwrite(dir / "masks/000003.png", mask));
+    try
+    {
+        app.run({"keypoints", dir / "masks", dir / "debug"}, out);
+        FAIL() << "expected an InputError";
+    }
+    catch (const core::InputError& e)
+    {
+        EXPECT_NE(std::string(e.what()).find("000003.csv' line 2"), std::string::npos) << e.what();
+    }
+    std::filesystem::remove(dir / "masks/000003.png");
+    EXPECT_THROW(app.run({"keypoints", dir / "masks", dir / "debug"}, out), core::InputError);
+}
