@@ -8,22 +8,21 @@ import sys
 
 
 def parse(text):
-    """[(section, key, value, comment)] in order. A comment block describes the keys below it,
-    up to the next comment block, blank line or section."""
-    out, section, pending, block = [], "", [], ""
+    """[(section, key, value, comment)] in order. A key's comment is the comment block right
+    above it, and only that key's: a key without one has an empty comment."""
+    out, section, pending = [], "", []
     for raw in text.splitlines():
         line = raw.strip()
         if not line:
-            pending, block = [], ""
+            pending = []
         elif line.startswith("#"):
             pending.append(line.lstrip("#").strip())
         elif line.startswith("["):
-            section, pending, block = line[1:line.index("]")], [], ""
+            section, pending = line[1:line.index("]")], []
         elif "=" in line:
-            if pending:
-                block, pending = " ".join(pending), []
             key, value = (p.strip() for p in line.split("=", 1))
-            out.append((section, key, value, block))
+            out.append((section, key, value, " ".join(pending)))
+            pending = []
     return out
 
 
@@ -46,12 +45,17 @@ def main():
              "comments of `config/default.ini`. Do not edit: the test `config_reference_is_current`",
              "fails when this page and the code disagree. Explanations and examples:",
              "docs/configuration.md.", ""]
+    undocumented = ["[%s] %s" % (s, k) for s, k, _, _ in parse(generated)
+                    if not documented.get((s, k))]
+    if undocumented:
+        sys.exit("gen-config-reference: no comment right above these keys in %s: %s"
+                 % (default_ini, ", ".join(undocumented)))
     section = None
     for s, k, v, _ in parse(generated):
         if s != section:
             section = s
             lines += ["", "## [%s]" % s, "", "| key | default | meaning |", "|---|---|---|"]
-        meaning = documented.get((s, k), "(not documented in config/default.ini)")
+        meaning = documented[(s, k)]
         v = pretty(v).replace("|", "\\|") or "(empty)"
         lines.append("| %s | %s | %s |" % (k, v, meaning.replace("|", "\\|")))
     open(out_md, "w").write("\n".join(lines).replace("\n\n\n", "\n\n") + "\n")

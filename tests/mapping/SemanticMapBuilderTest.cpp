@@ -1,8 +1,11 @@
 // SemanticMapBuilder: contributions in the camera frame, thinning, and re-anchoring at refined
 // poses against known geometry.
 #include <gtest/gtest.h>
+#include <mrpt/opengl/CPointCloudColoured.h>
+#include <mrpt/opengl/CSetOfObjects.h>
 
 #include <cmath>
+#include <fstream>
 #include <opencv2/core.hpp>
 
 #include "TestData.h"
@@ -46,7 +49,7 @@ TEST(SemanticMapBuilder, ContributionIsTheStaticPixelsInTheCameraFrameThinned)
 {
     mapping::MapBuilderParameters p;
     p.contribution_voxel = 0.0;
-    mapping::SemanticMapBuilder full(p);
+    mapping::SemanticMapBuilder full(p, core::LabelSet::pascalVoc());
     const mrpt::poses::CPose3D T(1.0, 2.0, 3.0, 0.0, 0.0, 0.0);
     const auto& c = full.add(0, 10.0, wall(), camera(), T);
     // 80 x 60 pixels minus the 10 x 10 dynamic square.
@@ -63,7 +66,7 @@ TEST(SemanticMapBuilder, ContributionIsTheStaticPixelsInTheCameraFrameThinned)
     // Thinned to 2 cm voxels: at 2 m a pixel is 2.5 cm, so about one point per pixel remains,
     // and at 10 cm a 4 x 4-pixel block becomes one point.
     p.contribution_voxel = 0.1;
-    mapping::SemanticMapBuilder thin(p);
+    mapping::SemanticMapBuilder thin(p, core::LabelSet::pascalVoc());
     const auto& t = thin.add(0, 10.0, wall(), camera(), T);
     EXPECT_LT(t.points_cam.size(), c.points_cam.size() / 8);
     EXPECT_GT(t.points_cam.size(), c.points_cam.size() / 32);
@@ -73,7 +76,7 @@ TEST(SemanticMapBuilder, ContributionIsTheStaticPixelsInTheCameraFrameThinned)
 TEST(SemanticMapBuilder, ReanchorMovesTheMapOnlyBeyondTheTolerance)
 {
     mapping::MapBuilderParameters p;
-    mapping::SemanticMapBuilder b(p);
+    mapping::SemanticMapBuilder b(p, core::LabelSet::pascalVoc());
     const mrpt::poses::CPose3D T0(0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
     b.add(0, 1.0, wall(), camera(), T0);
     b.add(1, 2.0, wall(), camera(), T0);
@@ -133,7 +136,7 @@ TEST(SemanticMapBuilder, PruningDropsPointsWhereLaterKeyframesSawThrough)
     {
         mapping::MapBuilderParameters p;
         p.prune_free_points = prune;
-        mapping::SemanticMapBuilder b(p);
+        mapping::SemanticMapBuilder b(p, core::LabelSet::pascalVoc());
         b.add(0, 0.0, withBox, camera(), mrpt::poses::CPose3D());
         for (uint64_t k = 1; k <= 3; ++k)
             b.add(k, static_cast<double>(k), bare, camera(), mrpt::poses::CPose3D());
@@ -144,5 +147,57 @@ TEST(SemanticMapBuilder, PruningDropsPointsWhereLaterKeyframesSawThrough)
         EXPECT_EQ(nearPoints(b.pointsMap()), prune ? 0U : boxBefore) << "prune " << prune;
         EXPECT_EQ(pruned, prune ? boxBefore : 0U);
         EXPECT_EQ(b.pointsMap().size() - nearPoints(b.pointsMap()), wallBefore);
+    }
+}
+
+TEST(SemanticMapBuilder, ALabelFileOfThirtyClassesKeepsClass25AndItsColour)
+{
+    // A label file beyond PASCAL VOC's 21 classes: class 25 must reach both maps (the octomap's
+    // distribution has one entry per class of the file) and be drawn in the file's colour.
+    const std::string path = ::testing::TempDir() + "thirty_classes.csv";
+    {
+        std::ofstream csv(path);
+        csv << "id,name,r,g,b,dynamic_prior\n";
+        for (int i = 0; i < 30; i++)
+            csv << i << ",class" << i << "," << (i == 25 ? 201 : i) << "," << (i == 25 ? 17 : i)
+                << "," << (i == 25 ? 99 : i) << ",0\n";
+    }
+    const auto labels = core::LabelSet::loadCsv(path);
+    ASSERT_EQ(labels.size(), 30u);
+
+    maps::BackProjector::Images im = wall();
+    im.labels.setTo(25);
+    im.dynamicMask.setTo(0);
+    mapping::MapBuilderParameters p;
+    mapping::SemanticMapBuilder b(p, labels);
+    b.add(0, 1.0, im, camera(), mrpt::poses::CPose3D());
+
+    EXPECT_EQ(b.octoMap().insertionOptions.label_count, 30);
+    const auto points = b.pointsMap().points();
+    ASSERT_FALSE(points.empty());
+    for (const auto& pt : points)
+        ASSERT_EQ(pt.label, 25);
+    const auto voxels = b.octoMap().occupiedVoxels();
+    ASSERT_FALSE(voxels.empty());
+    for (const auto& v : voxels)
+        ASSERT_EQ(v.label, 25);
+
+    // Coloured by class, both maps draw class 25 as the file says (r 201, g 17, b 99).
+    for (const mrpt::maps::CMetricMap* map :
+         {static_cast<const mrpt::maps::CMetricMap*>(&b.pointsMap()),
+          static_cast<const mrpt::maps::CMetricMap*>(&b.octoMap())})
+    {
+        mrpt::opengl::CSetOfObjects scene;
+        map->getVisualizationInto(scene);
+        const auto cloud = scene.getByClass<mrpt::opengl::CPointCloudColoured>();
+        ASSERT_TRUE(cloud);
+        ASSERT_GT(cloud->size(), 0u);
+        for (size_t i = 0; i < cloud->size(); i++)
+        {
+            const mrpt::img::TColor c = cloud->getPointColor(i);
+            ASSERT_EQ(c.R, 201);
+            ASSERT_EQ(c.G, 17);
+            ASSERT_EQ(c.B, 99);
+        }
     }
 }

@@ -70,7 +70,8 @@ TEST(MapSnapshot, PointsMapByClassWithLegendMatchesGolden)
     const cv::Mat image = maps::MapSnapshot(o).render(map);
     ASSERT_EQ(image.type(), CV_8UC3);
     // Not blank: both class colours are on the picture.
-    const cv::Vec3b chair = core::vocColour(9), person = core::vocColour(15);
+    const auto voc = core::LabelSet::pascalVoc();
+    const cv::Vec3b chair = voc[9].colourBgr, person = voc[15].colourBgr;
     int chairPixels = 0, personPixels = 0;
     for (int v = 0; v < image.rows; v++)
         for (int u = 60; u < image.cols; u++)  // right of the legend

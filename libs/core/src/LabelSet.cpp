@@ -9,6 +9,9 @@
 
 namespace smap::core
 {
+namespace
+{
+/// The PASCAL VOC colour map (bit-interleaved id), BGR.
 cv::Vec3b vocColour(int id)
 {
     int r = 0, g = 0, b = 0, c = id;
@@ -21,6 +24,7 @@ cv::Vec3b vocColour(int id)
     }
     return {static_cast<uchar>(b), static_cast<uchar>(g), static_cast<uchar>(r)};
 }
+}  // namespace
 
 LabelSet::LabelSet(std::vector<Label> labels) : labels_(std::move(labels))
 {
@@ -38,6 +42,13 @@ LabelSet::LabelSet(std::vector<Label> labels) : labels_(std::move(labels))
             if (labels_[j].name == labels_[i].name)
                 throw InputError("label name '" + labels_[i].name + "' appears twice");
     }
+}
+
+cv::Vec3b LabelSet::colourOf(int id) const
+{
+    return id >= 0 && static_cast<size_t>(id) < labels_.size()
+               ? labels_[static_cast<size_t>(id)].colourBgr
+               : cv::Vec3b(0, 0, 0);
 }
 
 LabelSet LabelSet::pascalVoc()

@@ -20,11 +20,14 @@ std::pair<double, double> poseDifference(const mrpt::poses::CPose3D& a,
 }
 }  // namespace
 
-SemanticMapBuilder::SemanticMapBuilder(const MapBuilderParameters& params)
+SemanticMapBuilder::SemanticMapBuilder(const MapBuilderParameters& params,
+                                       const core::LabelSet& labels)
     : params_(params), projector_(params.pointsMap.projection)
 {
     pointsMap_.insertionOptions = params_.pointsMap;
     octoMap_.insertionOptions = params_.octoMap;
+    pointsMap_.setLabels(labels);
+    octoMap_.setLabels(labels);
 }
 
 const KeyFrameContribution& SemanticMapBuilder::add(uint64_t keyframe, double timestamp,

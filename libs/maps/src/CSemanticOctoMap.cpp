@@ -74,12 +74,15 @@ void CSemanticOctoMap::TInsertionOptions::loadFromConfigFile(
     resolution = cfg.read_double(section, "resolution", resolution);
     projection.min_depth = cfg.read_double(section, "min_depth", projection.min_depth);
     projection.max_depth = cfg.read_double(section, "max_depth", projection.max_depth);
-    projection.stride = cfg.read_int(section, "stride", projection.stride);
+    if (standalone_keys)
+    {
+        projection.stride = cfg.read_int(section, "stride", projection.stride);
+        label_count = cfg.read_int(section, "label_count", label_count);
+    }
     prob_hit = cfg.read_double(section, "prob_hit", prob_hit);
     prob_miss = cfg.read_double(section, "prob_miss", prob_miss);
     clamping_min = cfg.read_double(section, "clamping_min", clamping_min);
     clamping_max = cfg.read_double(section, "clamping_max", clamping_max);
-    label_count = cfg.read_int(section, "label_count", label_count);
     label_log_floor = cfg.read_double(section, "label_log_floor", label_log_floor);
     if (!(resolution >= 0.005 && resolution <= 2.0))
         throw core::InputError(mrpt::format("[%s] resolution = %g must be in [0.005, 2] m",
@@ -104,12 +107,14 @@ void CSemanticOctoMap::TInsertionOptions::saveToConfigFile(mrpt::config::CConfig
     cfg.write(section, "resolution", resolution);
     cfg.write(section, "min_depth", projection.min_depth);
     cfg.write(section, "max_depth", projection.max_depth);
-    cfg.write(section, "stride", projection.stride);
+    if (standalone_keys)
+        cfg.write(section, "stride", projection.stride);
     cfg.write(section, "prob_hit", prob_hit);
     cfg.write(section, "prob_miss", prob_miss);
     cfg.write(section, "clamping_min", clamping_min);
     cfg.write(section, "clamping_max", clamping_max);
-    cfg.write(section, "label_count", label_count);
+    if (standalone_keys)
+        cfg.write(section, "label_count", label_count);
     cfg.write(section, "label_log_floor", label_log_floor);
 }
 
@@ -166,6 +171,7 @@ CSemanticOctoMap& CSemanticOctoMap::operator=(const CSemanticOctoMap& other)
         return *this;
     insertionOptions = other.insertionOptions;
     renderOptions = other.renderOptions;
+    labels_ = other.labels_;
     impl_->tree = other.impl_->tree ? cloneTree(*other.impl_->tree) : nullptr;
     impl_->classes = other.impl_->classes;
     return *this;
@@ -191,6 +197,14 @@ void CSemanticOctoMap::internal_clear()
 bool CSemanticOctoMap::isEmpty() const
 {
     return !impl_->tree || impl_->tree->size() == 0;
+}
+
+void CSemanticOctoMap::setLabels(const core::LabelSet& labels)
+{
+    if (labels.empty())
+        throw core::InputError("CSemanticOctoMap::setLabels: the label set is empty");
+    labels_ = labels;
+    insertionOptions.label_count = static_cast<int>(labels.size());
 }
 
 // ---- insertion ----
@@ -386,7 +400,7 @@ void CSemanticOctoMap::saveOt(const std::string& path, bool colourByClass) const
             if (cls != impl_->classes.end())
                 label = static_cast<int>(std::max_element(cls->second.begin(), cls->second.end()) -
                                          cls->second.begin());
-            const cv::Vec3b c = core::vocColour(label);
+            const cv::Vec3b c = labels_.colourOf(label);
             it->setColor(c[2], c[1], c[0]);
         }
     }
@@ -451,7 +465,7 @@ void CSemanticOctoMap::getVisualizationInto(mrpt::opengl::CSetOfObjects& o) cons
     {
         cv::Vec3b bgr(v.b, v.g, v.r);
         if (renderOptions.colour_by_class)
-            bgr = core::vocColour(v.label == 255 ? 0 : v.label);
+            bgr = labels_.colourOf(v.label == core::LabelSet::kVoid ? 0 : v.label);
         cloud->push_back(v.centre.x(), v.centre.y(), v.centre.z(), bgr[2] / 255.0f, bgr[1] / 255.0f,
                          bgr[0] / 255.0f);
     }

@@ -302,7 +302,7 @@ void CSemanticPointsMap::getVisualizationInto(mrpt::opengl::CSetOfObjects& o) co
     {
         cv::Vec3b bgr(p.b, p.g, p.r);
         if (renderOptions.colour_by_class)
-            bgr = core::vocColour(p.label);
+            bgr = labels_.colourOf(p.label);
         cloud->push_back(p.position.x(), p.position.y(), p.position.z(), bgr[2] / 255.0f,
                          bgr[1] / 255.0f, bgr[0] / 255.0f);
     }

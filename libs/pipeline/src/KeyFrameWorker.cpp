@@ -15,7 +15,7 @@ KeyFrameWorker::KeyFrameWorker(std::unique_ptr<segmentation::Segmenter> segmente
       segmenter_(std::move(segmenter)),
       labels_(std::move(labels)),
       finder_(association, labels_),
-      builder_(map),
+      builder_(map, labels_),
       queue_(queueCapacity)
 {
     thread_ = std::thread([this] { run(); });

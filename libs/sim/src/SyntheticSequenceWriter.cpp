@@ -178,6 +178,7 @@ void writeContactSheet(const std::string& sequenceFolder, size_t count, const st
     count = std::min(count, frames.size());
     const int tw = 320, th = 240;
     cv::Mat sheet(th * static_cast<int>(count), tw * 4, CV_8UC3, cv::Scalar(0, 0, 0));
+    const core::LabelSet classes = core::LabelSet::pascalVoc();  // what the generator labels
     for (size_t r = 0; r < count; r++)
     {
         const fs::path name = frames[r * (frames.size() - 1) / std::max<size_t>(1, count - 1)];
@@ -191,7 +192,7 @@ void writeContactSheet(const std::string& sequenceFolder, size_t count, const st
         {
             for (int u = 0; u < rgb.cols; u++)
             {
-                const cv::Vec3b c = core::vocColour(labels.at<uint8_t>(v, u));
+                const cv::Vec3b c = classes.colourOf(labels.at<uint8_t>(v, u));
                 auto& p = labelOverlay.at<cv::Vec3b>(v, u);
                 if (labels.at<uint8_t>(v, u) != 0 && labels.at<uint8_t>(v, u) != 255)
                     for (int k = 0; k < 3; k++)

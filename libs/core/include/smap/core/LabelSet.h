@@ -42,6 +42,8 @@ public:
     /// Id by name; throws InputError listing the known names.
     int idOf(const std::string& name) const;
 
+    /// Display colour of a class id (BGR); black for void and ids outside the set.
+    cv::Vec3b colourOf(int id) const;
     /// BGR picture of a CV_8UC1 label image (void and unknown ids black).
     cv::Mat colourise(const cv::Mat& labels) const;
     /// `bgr` blended with the label colours (background 0 and void left as they are).
@@ -50,7 +52,4 @@ public:
 private:
     std::vector<Label> labels_;
 };
-
-/// The PASCAL VOC colour map (bit-interleaved id), BGR.
-cv::Vec3b vocColour(int id);
 }  // namespace smap::core

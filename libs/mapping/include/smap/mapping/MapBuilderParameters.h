@@ -33,6 +33,10 @@ struct MapBuilderParameters : public mrpt::config::CLoadableOptions
     maps::CSemanticPointsMap::TInsertionOptions pointsMap;
     maps::CSemanticOctoMap::TInsertionOptions octoMap;
 
+    /// The octomap here is fed the points-map's back-projected points (no stride of its own)
+    /// and takes its class count from the label set: [octomap] has no stride or label_count.
+    MapBuilderParameters() { octoMap.standalone_keys = false; }
+
     void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
                             const std::string& section) override;
     void saveToConfigFile(mrpt::config::CConfigFileBase& cfg,

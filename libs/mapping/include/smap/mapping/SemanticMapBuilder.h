@@ -23,7 +23,8 @@ namespace smap::mapping
 class SemanticMapBuilder
 {
 public:
-    explicit SemanticMapBuilder(const MapBuilderParameters& params);
+    /// `labels` is the one source of class ids, colours and the octomap's class count.
+    SemanticMapBuilder(const MapBuilderParameters& params, const core::LabelSet& labels);
 
     /// Adds keyframe number `keyframe` (ids increase with every call): back-projects the static
     /// pixels of `images` (dynamic mask skipped) in the camera frame, thins them, stores them and

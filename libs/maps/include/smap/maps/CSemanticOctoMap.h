@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "smap/core/LabelSet.h"
 #include "smap/maps/BackProjector.h"
 #include "smap/maps/MapRenderOptions.h"
 
@@ -33,11 +34,18 @@ public:
         double prob_miss = 0.4;
         double clamping_min = 0.12;
         double clamping_max = 0.97;
-        /// Classes of the label set (the distribution's size): PASCAL VOC 21.
+        /// Classes of the label set (the distribution's size): PASCAL VOC 21. setLabels()
+        /// sets it from the label set; a stand-alone map reads it from its configuration.
         int label_count = 21;
         /// Class log-probabilities are kept above this, so a voxel can change its mind after
         /// many views (as occupancy clamping does).
         double label_log_floor = -8.0;
+
+        /// Whether the configuration holds the keys only a stand-alone map needs (MRPT's map
+        /// factory, insertObservation): `stride` of its own back-projection and `label_count`.
+        /// False where the owner sets them (semantic-mapper feeds the map points, not
+        /// observations, and takes the class count from its label set).
+        bool standalone_keys = true;
 
         TInsertionOptions() { projection.stride = 2; }
         void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
@@ -64,6 +72,11 @@ public:
     ~CSemanticOctoMap() override;
     CSemanticOctoMap(const CSemanticOctoMap& other);
     CSemanticOctoMap& operator=(const CSemanticOctoMap& other);
+
+    /// The classes the map colours by and holds distributions for: label_count becomes the
+    /// set's size. Not serialized (the map stores class ids); PASCAL VOC until set.
+    void setLabels(const core::LabelSet& labels);
+    const core::LabelSet& labels() const { return labels_; }
 
     /// Rays from `sensorOrigin` to each point: voxels crossed become freer, the end voxel more
     /// occupied and takes the point's colour and class evidence.
@@ -101,6 +114,7 @@ public:
 private:
     struct Impl;
     std::unique_ptr<Impl> impl_;
+    core::LabelSet labels_ = core::LabelSet::pascalVoc();
 
     void internal_clear() override;
     bool internal_insertObservation(

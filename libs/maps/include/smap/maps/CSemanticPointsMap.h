@@ -13,6 +13,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "smap/core/LabelSet.h"
 #include "smap/maps/BackProjector.h"
 #include "smap/maps/MapRenderOptions.h"
 
@@ -41,6 +42,11 @@ public:
     TRenderOptions renderOptions;
 
     CSemanticPointsMap() = default;
+
+    /// The classes the map colours by (render option colour_by_class). Not serialized (the
+    /// points store class ids); PASCAL VOC until set.
+    void setLabels(const core::LabelSet& labels) { labels_ = labels; }
+    const core::LabelSet& labels() const { return labels_; }
 
     /// Adds world points: each goes to its voxel, which keeps the mean position and colour and
     /// the class whose summed confidence is highest.
@@ -91,6 +97,8 @@ private:
         void add(const SemanticPoint& p);
         SemanticPoint mean() const;
     };
+
+    core::LabelSet labels_ = core::LabelSet::pascalVoc();
 
     void internal_clear() override { voxels_.clear(); }
     bool internal_insertObservation(
