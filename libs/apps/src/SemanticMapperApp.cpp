@@ -127,6 +127,7 @@ void writeText(const fs::path& path, const std::string& text)
 }  // namespace
 
 SemanticMapperApp::SemanticMapperApp() : COutputLogger("semantic-mapper") {}
+SemanticMapperApp::~SemanticMapperApp() = default;
 
 std::string SemanticMapperApp::defaultInput()
 {
@@ -183,8 +184,9 @@ std::string SemanticMapperApp::usage()
            "  130 interrupted (Ctrl-C; the outputs cover the frames processed).\n";
 }
 
-int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& out,
-                           std::ostream* progressStream)
+// ---- initialize ----
+
+bool SemanticMapperApp::initialize(const std::vector<std::string>& args, std::ostream& out)
 {
     CommandLine cl;
     cl.option("config")
@@ -201,101 +203,276 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
     if (cl.has("help"))
     {
         out << usage();
-        return kExitOk;
+        return false;
     }
     if (cl.has("print-config"))
     {
         out << configurationReference();
-        return kExitOk;
+        return false;
     }
     if (cl.has("quiet"))
         setMinLoggingLevel(mrpt::system::LVL_WARN);
     if (cl.positionals().size() > 1)
         throw core::InputError("semantic-mapper takes at most one INPUT (see --help)");
 
-    const std::string input = cl.positionals().empty() ? defaultInput() : cl.positionals()[0];
-    if (input.empty())
+    options.input = cl.positionals().empty() ? defaultInput() : cl.positionals()[0];
+    if (options.input.empty())
         throw core::InputError(
             "no INPUT given and the embedded sample recording is missing from the data folder " +
             core::dataDirectory() + " (rawlogs/sample_walking_xyz.rawlog; see " +
             core::kDataDirectoryVariable + " in docs/pipeline.md)");
-    const std::string outDir = cl.value("out").value_or("smap-out");
-    const FrameSelection debugFrames =
-        cl.has("dynamic-debug") ? FrameSelection::parse(*cl.value("dynamic-debug"), "dynamic-debug")
-                                : FrameSelection();
+    options.outputDirectory = cl.value("out").value_or("smap-out");
+    if (cl.has("dynamic-debug"))
+        options.debugFrames = FrameSelection::parse(*cl.value("dynamic-debug"), "dynamic-debug");
 
     // Configuration: files, then --set overrides; every component loads its parameters once.
-    io::FrameSourceParameters sourceParams;
-    pipeline::SemanticMapperParameters params;
-    {
-        std::vector<mrpt::config::CLoadableOptions*> parts = params.parts();
-        parts.insert(parts.begin(), &sourceParams);
-        loadAppConfiguration(cl, parts, input, *this);
-    }
-    auto& seg = params.segmentation;
-    if (!useShippedModelIfUnset(seg))
-    {
-        MRPT_LOG_WARN_STREAM("no segmentation model configured and the shipped model "
-                             << shippedModelPath()
-                             << " does not exist (a broken installation?): keyframes are not "
-                                "segmented ([segmentation] backend = none)");
-        seg.backend = "none";
-    }
+    std::vector<mrpt::config::CLoadableOptions*> parts = parameters.parts();
+    parts.insert(parts.begin(), &sourceParameters);
+    loadAppConfiguration(cl, parts, options.input, *this);
+    chooseSegmenter();
+    parseGroundTruthOptions(cl);
+    return true;
+}
 
-    const std::vector<std::string> gtPaths = cl.values("gt");
-    for (const auto& gt : gtPaths)
+void SemanticMapperApp::chooseSegmenter()
+{
+    if (useShippedModelIfUnset(parameters.segmentation))
+        return;
+    MRPT_LOG_WARN_STREAM("no segmentation model configured and the shipped model "
+                         << shippedModelPath()
+                         << " does not exist (a broken installation?): keyframes are not "
+                            "segmented ([segmentation] backend = none)");
+    parameters.segmentation.backend = "none";
+}
+
+void SemanticMapperApp::parseGroundTruthOptions(const CommandLine& cl)
+{
+    options.groundTruths = cl.values("gt");
+    for (const auto& gt : options.groundTruths)
         if (!fs::is_regular_file(gt))
             throw core::InputError("--gt '" + gt + "' is not a file");
-    std::string gtLabels = cl.value("gt-labels").value_or("");
-    if (!gtLabels.empty() && !fs::is_directory(gtLabels))
-        throw core::InputError("--gt-labels '" + gtLabels + "' is not a folder");
-    int gtVoid = 255;
+    options.groundTruthLabels = cl.value("gt-labels").value_or("");
+    if (!options.groundTruthLabels.empty() && !fs::is_directory(options.groundTruthLabels))
+        throw core::InputError("--gt-labels '" + options.groundTruthLabels + "' is not a folder");
     if (const auto v = cl.value("gt-void"))
-        gtVoid = *v == "none" ? -1 : static_cast<int>(cl.integer("gt-void", 255));
-    if (gtVoid < -1 || gtVoid > 255)
+        options.groundTruthVoid = *v == "none" ? -1 : static_cast<int>(cl.integer("gt-void", 255));
+    if (options.groundTruthVoid < -1 || options.groundTruthVoid > 255)
         throw core::InputError("--gt-void must be a label id in [0, 255] or 'none'");
+}
 
-    auto source = io::openFrameSource(input, sourceParams);
-    source->setMinLoggingLevel(getMinLoggingLevel());
-    core::prepareOutputDirectory(outDir, "--out");
-    const std::vector<std::string> references =
-        gtPaths.empty() ? io::referenceTrajectories(source->groundTruthPath()) : gtPaths;
-    if (gtLabels.empty())
-        gtLabels = KeyFrameScorer::findFor(input);
+// ---- run ----
 
-    // Signals are blocked in this thread before any other starts, so every thread inherits it.
-    InterruptWatcher interrupt;
-    const auto tStart = std::chrono::steady_clock::now();
-    pipeline::SemanticMapper mapper(params);
-    mapper.setLoggingLevel(getMinLoggingLevel());
-    if (params.pipeline.opencv_threads > 0)
-        cv::setNumThreads(params.pipeline.opencv_threads);
-    const double setupMs = core::millisecondsSince(tStart);
-
-    const fs::path dir(outDir);
-    MRPT_LOG_INFO_STREAM("reading " << source->description() << " -> " << outDir
-                                    << "; keyframes segmented by "
-                                    << mapper.worker().segmenterDescription());
-    {
-        mrpt::config::CConfigFileMemory effective;
-        sourceParams.saveToConfigFile(effective, "");
-        for (const auto* p : std::as_const(params).parts())
-            p->saveToConfigFile(effective, "");
-        writeText(dir / "config-effective.ini",
-                  "# effective configuration of semantic-mapper (defaults, --config, --set)\n" +
-                      effective.getContent());
-    }
-
-    // Keyframe outputs, written by the worker thread in keyframe order.
+/// One run's state, handed from step to step.
+struct detail::MapperRun
+{
+    std::unique_ptr<io::FrameSource> source;
+    fs::path dir;
+    std::vector<std::string> references;  ///< ground-truth trajectories, the first evaluated
+    std::string groundTruthLabels;
+    std::unique_ptr<pipeline::SemanticMapper> mapper;
     std::unique_ptr<io::RawlogWriter> annotated;
-    if (params.pipeline.annotated_rawlog)
-        annotated = std::make_unique<io::RawlogWriter>((dir / "annotated.rawlog").string(), 0);
     std::unique_ptr<KeyFrameScorer> scorer;
-    if (!gtLabels.empty())
-        scorer = std::make_unique<KeyFrameScorer>(gtLabels, mapper.worker().labels(),
-                                                  seg.backend != "none", gtVoid);
-    mapper.setKeyFrameObserver(
-        [&](const pipeline::KeyFrameJob& job, const maps::CObservationSemanticRGBD& obs,
+    RunLog log;
+    bool interrupted = false;
+    std::vector<std::string> files;  ///< outputs written, relative to dir
+    core::Trajectory trajectory;
+    mapping::SemanticMapBuilder::ReanchorResult reanchor;
+    size_t mapPoints = 0, octoVoxels = 0, contributionBytes = 0, mapBytes = 0;
+    std::vector<double> readMs;
+    std::chrono::steady_clock::time_point start;
+    double setupMs = 0.0, trackingWallS = 0.0, finishS = 0.0, outputS = 0.0, elapsedS = 0.0;
+};
+
+namespace
+{
+void trackOne(RunLog& log, pipeline::SemanticMapper& mapper, pipeline::FrameFeeder::Item& item,
+              const std::string& input, ProgressReporter& progress)
+{
+    if (item.skipped)
+    {
+        log.addSkipped(*item.skipped);
+        requireReadableStart(log, input);
+        return;
+    }
+    const double stamp = item.frame.rgbd.timestamp;
+    const core::PinholeCamera camera = item.frame.rgbd.camera;
+    log.add(item.stats, stamp, camera, mapper.track(std::move(item.frame)));
+    progress.update(log.frames(), mrpt::format("%zu keyframes, %zu lost",
+                                               mapper.keyframesSubmitted(), log.lost()));
+}
+
+core::JsonValue trackingSummary(const RunLog& log, const pipeline::SemanticMapper& mapper)
+{
+    const auto& slam = mapper.slam();
+    const auto ms = slam.mappingStats();
+    auto tracking = log.trackingJson();
+    tracking.set("keyframes", static_cast<uint64_t>(slam.numKeyFrames()))
+        .set("keyframes_culled", static_cast<uint64_t>(ms.keyframesCulled))
+        .set("map_points", static_cast<uint64_t>(slam.numPoints()))
+        .set("local_ba_runs", static_cast<uint64_t>(ms.baRuns))
+        .set("global_ba_keyframes",
+             static_cast<uint64_t>(slam.globalBundleAdjustmentStats().keyframes))
+        .set("global_ba_outliers_removed",
+             static_cast<uint64_t>(slam.globalBundleAdjustmentStats().outliersRemoved))
+        .set("global_ba_seconds", slam.globalBundleAdjustmentSeconds());
+    return tracking;
+}
+
+core::JsonValue keyFrameSummary(pipeline::SemanticMapper& mapper,
+                                const pipeline::PipelineParameters& params)
+{
+    const auto ws = mapper.worker().stats();
+    const uint64_t pixels = ws.dynamicPixels + ws.staticPixels;
+    auto kf = core::JsonValue::object();
+    kf.set("submitted", static_cast<uint64_t>(mapper.keyframesSubmitted()))
+        .set("mapped", static_cast<uint64_t>(ws.keyframes))
+        .set("dropped_queue_full", static_cast<uint64_t>(ws.dropped))
+        .set("tracking_waited_queue_full", static_cast<uint64_t>(ws.waits))
+        .set("queue_capacity", params.keyframe_queue)
+        .set("queue_high_water", static_cast<uint64_t>(ws.queueHighWater))
+        .set("segmenter", mapper.worker().segmenterDescription())
+        .set(
+            "dynamic_pixel_fraction",
+            pixels > 0 ? static_cast<double>(ws.dynamicPixels) / static_cast<double>(pixels) : 0.0);
+    return kf;
+}
+
+core::JsonValue mapSummary(const detail::MapperRun& s)
+{
+    constexpr double kMiB = 1024.0 * 1024.0;
+    auto mapj = core::JsonValue::object();
+    mapj.set("points", static_cast<uint64_t>(s.mapPoints))
+        .set("octomap_occupied_voxels", static_cast<uint64_t>(s.octoVoxels))
+        .set("map_memory_mib", static_cast<double>(s.mapBytes) / kMiB)
+        .set("contributions_mib", static_cast<double>(s.contributionBytes) / kMiB)
+        .set("reanchored_keyframes", static_cast<uint64_t>(s.reanchor.moved))
+        .set("rebuilt", s.reanchor.rebuilt)
+        .set("max_keyframe_correction_m", s.reanchor.maxTranslation)
+        .set("max_keyframe_correction_deg", s.reanchor.maxRotationDeg)
+        .set("pruned_free_points", static_cast<uint64_t>(s.reanchor.pruned));
+    return mapj;
+}
+
+core::JsonValue timingSummary(const detail::MapperRun& s)
+{
+    const auto ws = s.mapper->worker().stats();
+    const auto ms = s.mapper->slam().mappingStats();
+    const double n = static_cast<double>(s.log.frames());
+    auto timings = core::JsonValue::object();
+    timings.set("setup_s", s.setupMs / 1000.0).set("read_decode", timingJson(s.readMs));
+    s.log.addTimings(timings);
+    timings.set("local_mapping_total_s", ms.totalSeconds)
+        .set("local_ba_s", ms.baSeconds)
+        .set("segmentation", timingJson(ws.segmentationMs))
+        .set("association", timingJson(ws.associationMs))
+        .set("map_insertion", timingJson(ws.insertionMs))
+        .set("keyframe_outputs", timingJson(ws.observerMs))
+        .set("frames_done_s", s.trackingWallS)
+        .set("finish_s", s.finishS)
+        .set("outputs_s", s.outputS)
+        .set("total_s", s.elapsedS)
+        .set("frames_per_second", s.elapsedS > 0 ? n / s.elapsedS : 0.0)
+        .set("peak_memory_mib", peakMemoryMiB());
+    return timings;
+}
+
+/// The first reference is the run's evaluation (and plot); each further one is reported beside
+/// it (datasets whose pseudo ground truths disagree, e.g. 7-Scenes).
+void addEvaluations(detail::MapperRun& s, bool plot, core::JsonValue& metrics,
+                    mrpt::system::COutputLogger& logger)
+{
+    if (s.references.empty())
+        return;
+    const std::string plotPath = plot ? (s.dir / "snapshots" / "ate.png").string() : std::string();
+    metrics.set("evaluation",
+                evaluateTrajectory(s.references.front(), s.trajectory, plotPath, logger));
+    if (!plotPath.empty() && fs::exists(plotPath))
+        s.files.emplace_back("snapshots/ate.png");
+    auto others = core::JsonValue::array();
+    for (size_t k = 1; k < s.references.size(); k++)
+        others.push(evaluateTrajectory(s.references[k], s.trajectory, {}, logger));
+    if (s.references.size() > 1)
+        metrics.set("other_references", others);
+}
+}  // namespace
+
+int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& out,
+                           std::ostream* progress)
+{
+    if (!initialize(args, out))
+        return kExitOk;
+    return run(out, progress);
+}
+
+int SemanticMapperApp::run(std::ostream& out, std::ostream* progress)
+{
+    detail::MapperRun s;
+    openInput(s);
+    // Signals are blocked in this thread before any other starts, so every thread inherits it.
+    const InterruptWatcher interrupt;
+    startMapper(s);
+    writeEffectiveConfiguration(s);
+    attachKeyFrameOutputs(s);
+    trackAllFrames(s, interrupt, progress);
+    finishMapping(s);
+    writeMapOutputs(s);
+    writeMetrics(s);
+    reportSummary(s, out);
+    checkSkippedFraction(s);
+    return s.interrupted ? kExitInterrupted : kExitOk;
+}
+
+void SemanticMapperApp::openInput(detail::MapperRun& s) const
+{
+    s.source = io::openFrameSource(options.input, sourceParameters);
+    s.source->setMinLoggingLevel(getMinLoggingLevel());
+    core::prepareOutputDirectory(options.outputDirectory, "--out");
+    s.dir = fs::path(options.outputDirectory);
+    s.references = options.groundTruths.empty()
+                       ? io::referenceTrajectories(s.source->groundTruthPath())
+                       : options.groundTruths;
+    s.groundTruthLabels = options.groundTruthLabels.empty() ? KeyFrameScorer::findFor(options.input)
+                                                            : options.groundTruthLabels;
+}
+
+void SemanticMapperApp::startMapper(detail::MapperRun& s) const
+{
+    s.start = std::chrono::steady_clock::now();
+    s.mapper = std::make_unique<pipeline::SemanticMapper>(parameters);
+    s.mapper->setLoggingLevel(getMinLoggingLevel());
+    if (parameters.pipeline.opencv_threads > 0)
+        cv::setNumThreads(parameters.pipeline.opencv_threads);
+    s.setupMs = core::millisecondsSince(s.start);
+    MRPT_LOG_INFO_STREAM("reading " << s.source->description() << " -> " << options.outputDirectory
+                                    << "; keyframes segmented by "
+                                    << s.mapper->worker().segmenterDescription());
+}
+
+void SemanticMapperApp::writeEffectiveConfiguration(detail::MapperRun& s) const
+{
+    mrpt::config::CConfigFileMemory effective;
+    sourceParameters.saveToConfigFile(effective, "");
+    for (const auto* p : parameters.parts())
+        p->saveToConfigFile(effective, "");
+    writeText(s.dir / "config-effective.ini",
+              "# effective configuration of semantic-mapper (defaults, --config, --set)\n" +
+                  effective.getContent());
+    s.files = {"trajectory.txt", "keyframes.txt", "frames.csv", "config-effective.ini"};
+}
+
+/// The annotated rawlog and the segmentation scores, filled by the worker thread in keyframe
+/// order.
+void SemanticMapperApp::attachKeyFrameOutputs(detail::MapperRun& s) const
+{
+    if (parameters.pipeline.annotated_rawlog)
+        s.annotated = std::make_unique<io::RawlogWriter>((s.dir / "annotated.rawlog").string(), 0);
+    if (!s.groundTruthLabels.empty())
+        s.scorer = std::make_unique<KeyFrameScorer>(
+            s.groundTruthLabels, s.mapper->worker().labels(),
+            parameters.segmentation.backend != "none", options.groundTruthVoid);
+    s.mapper->setKeyFrameObserver(
+        [annotated = s.annotated.get(), scorer = s.scorer.get()](
+            const pipeline::KeyFrameJob& job, const maps::CObservationSemanticRGBD& obs,
             const mapping::DynamicRegions&)
         {
             if (annotated)
@@ -303,36 +480,29 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
             if (scorer)
                 scorer->add(job.frame.name, obs);
         });
+}
 
-    // Front end (read and decode; features and dynamic filter) in two threads, feeding tracking.
+/// The frame loop: the front end (read and decode; features and dynamic filter) runs in two
+/// threads and feeds tracking here.
+void SemanticMapperApp::trackAllFrames(detail::MapperRun& s, const InterruptWatcher& interrupt,
+                                       std::ostream* progressStream)
+{
+    const std::string outDir = options.outputDirectory;
+    const FrameSelection debugFrames = options.debugFrames;
     pipeline::FrameFeeder feeder(
-        *source, mapper, static_cast<size_t>(params.pipeline.frame_queue),
+        *s.source, *s.mapper, static_cast<size_t>(parameters.pipeline.frame_queue),
         [&] { return interrupt.interrupted(); },
-        [&](const pipeline::FrameFeeder::Item& item)
+        [outDir, debugFrames](const pipeline::FrameFeeder::Item& item)
         {
             if (debugFrames.contains(item.index))
                 writeDynamicDebug(outDir, item.index, item.frame);
         });
-
-    RunLog log;
-    ProgressReporter progress(source->sizeHint(), progressStream, *this);
+    ProgressReporter progress(s.source->sizeHint(), progressStream, *this);
     std::exception_ptr trackError;
     try
     {
         while (auto item = feeder.next())
-        {
-            if (item->skipped)
-            {
-                log.addSkipped(*item->skipped);
-                requireReadableStart(log, input);
-                continue;
-            }
-            const double stamp = item->frame.rgbd.timestamp;
-            const core::PinholeCamera camera = item->frame.rgbd.camera;
-            log.add(item->stats, stamp, camera, mapper.track(std::move(item->frame)));
-            progress.update(log.frames(), mrpt::format("%zu keyframes, %zu lost",
-                                                       mapper.keyframesSubmitted(), log.lost()));
-        }
+            trackOne(s.log, *s.mapper, *item, options.input, progress);
     }
     catch (...)
     {
@@ -342,181 +512,131 @@ int SemanticMapperApp::run(const std::vector<std::string>& args, std::ostream& o
     progress.finish();
     if (trackError)
         std::rethrow_exception(trackError);
-    const bool interrupted = interrupt.interrupted();
-    if (interrupted)
+    s.readMs = feeder.readMilliseconds();
+    s.interrupted = interrupt.interrupted();
+    if (s.interrupted)
         MRPT_LOG_WARN_FMT(
             "interrupted after %zu frames: finishing the keyframes queued and "
             "writing the outputs (Ctrl-C again to abort)",
-            log.frames());
-    const double trackingWallS = core::secondsSince(tStart);
-    if (log.frames() == 0 && log.skipped() > 0)
-        throw core::InputError(mrpt::format(
-            "none of the %zu frames of '%s' could be read (the first: '%s': %s)", log.skipped(),
-            input.c_str(), log.firstSkipped().file.c_str(), log.firstSkipped().reason.c_str()));
+            s.log.frames());
+    s.trackingWallS = core::secondsSince(s.start);
+    if (s.log.frames() == 0 && s.log.skipped() > 0)
+        throw core::InputError(
+            mrpt::format("none of the %zu frames of '%s' could be read (the first: '%s': %s)",
+                         s.log.skipped(), options.input.c_str(), s.log.firstSkipped().file.c_str(),
+                         s.log.firstSkipped().reason.c_str()));
+}
 
-    // Drain the worker, re-anchor, write.
+/// Drains the worker, re-anchors the maps at the final keyframe poses, writes the trajectories.
+void SemanticMapperApp::finishMapping(detail::MapperRun& s)
+{
     const auto tFinish = std::chrono::steady_clock::now();
-    const auto reanchor = mapper.finish();
-    const double finishS = core::secondsSince(tFinish);
-    if (annotated)
-        annotated->commit();
-    const size_t n = log.frames();
-    const core::Trajectory trajectory = mapper.trajectory();
-    io::writeTumTrajectory((dir / "trajectory.txt").string(), trajectory,
+    s.reanchor = s.mapper->finish();
+    s.finishS = core::secondsSince(tFinish);
+    if (s.annotated)
+        s.annotated->commit();
+    s.trajectory = s.mapper->trajectory();
+    io::writeTumTrajectory((s.dir / "trajectory.txt").string(), s.trajectory,
                            "camera (optical frame) poses of every tracked frame, world = the "
                            "first keyframe's camera");
-    io::writeTumTrajectory((dir / "keyframes.txt").string(), mapper.keyFrameTrajectory(),
+    io::writeTumTrajectory((s.dir / "keyframes.txt").string(), s.mapper->keyFrameTrajectory(),
                            "keyframe poses after bundle adjustment");
-    writeText(dir / "frames.csv", log.framesCsv());
+    writeText(s.dir / "frames.csv", s.log.framesCsv());
+    if (s.annotated)
+        s.files.emplace_back("annotated.rawlog");
+}
 
+void SemanticMapperApp::writeMapOutputs(detail::MapperRun& s) const
+{
     const auto tOut = std::chrono::steady_clock::now();
-    std::vector<std::string> files = {"trajectory.txt", "keyframes.txt", "frames.csv",
-                                      "config-effective.ini"};
-    if (annotated)
-        files.emplace_back("annotated.rawlog");
     maps::SnapshotOptions snap;
-    snap.width = params.pipeline.snapshot_width;
-    snap.height = params.pipeline.snapshot_height;
-    snap.labels = mapper.worker().labels();
-    const pipeline::MapOutputWriter writer(outDir, snap);
-    size_t mapPoints = 0, octoVoxels = 0, contributionBytes = 0, mapBytes = 0;
-    mapper.withMaps(
+    snap.width = parameters.pipeline.snapshot_width;
+    snap.height = parameters.pipeline.snapshot_height;
+    snap.labels = s.mapper->worker().labels();
+    const pipeline::MapOutputWriter writer(options.outputDirectory, snap);
+    s.mapper->withMaps(
         [&](mapping::SemanticMapBuilder& b)
         {
             for (auto& f : writer.writeMaps(b))
-                files.push_back(std::move(f));
-            if (params.pipeline.snapshots)
-                for (auto& f : writer.writeSnapshots(b, trajectory))
-                    files.push_back(std::move(f));
-            mapPoints = b.pointsMap().size();
-            octoVoxels = b.octoMap().occupiedVoxels().size();
-            contributionBytes = b.contributionBytes();
-            mapBytes = b.pointsMap().memoryBytes() + b.octoMap().memoryBytes();
+                s.files.push_back(std::move(f));
+            if (parameters.pipeline.snapshots)
+                for (auto& f : writer.writeSnapshots(b, s.trajectory))
+                    s.files.push_back(std::move(f));
+            s.mapPoints = b.pointsMap().size();
+            s.octoVoxels = b.octoMap().occupiedVoxels().size();
+            s.contributionBytes = b.contributionBytes();
+            s.mapBytes = b.pointsMap().memoryBytes() + b.octoMap().memoryBytes();
         });
-    const double outputS = core::secondsSince(tOut);
+    s.outputS = core::secondsSince(tOut);
+}
 
-    // metrics.json
-    const auto ws = mapper.worker().stats();
-    const auto ms = mapper.slam().mappingStats();
-    const double elapsed = core::secondsSince(tStart);
-
+/// metrics.json: each part from its component's summary, then the evaluations.
+void SemanticMapperApp::writeMetrics(detail::MapperRun& s)
+{
+    s.elapsedS = core::secondsSince(s.start);
     auto metrics = core::JsonValue::object();
-    metrics.set("input", fs::absolute(input).string()).set("source", source->description());
-    metrics.set("interrupted", interrupted);
-    log.describeInput(metrics);
-    metrics.set("input_ended_early", source->endedEarly());
-    auto tracking = log.trackingJson();
-    tracking.set("keyframes", static_cast<uint64_t>(mapper.slam().numKeyFrames()))
-        .set("keyframes_culled", static_cast<uint64_t>(ms.keyframesCulled))
-        .set("map_points", static_cast<uint64_t>(mapper.slam().numPoints()))
-        .set("local_ba_runs", static_cast<uint64_t>(ms.baRuns))
-        .set("global_ba_keyframes",
-             static_cast<uint64_t>(mapper.slam().globalBundleAdjustmentStats().keyframes))
-        .set("global_ba_outliers_removed",
-             static_cast<uint64_t>(mapper.slam().globalBundleAdjustmentStats().outliersRemoved))
-        .set("global_ba_seconds", mapper.slam().globalBundleAdjustmentSeconds());
-    metrics.set("tracking", tracking);
-    auto kf = core::JsonValue::object();
-    kf.set("submitted", static_cast<uint64_t>(mapper.keyframesSubmitted()))
-        .set("mapped", static_cast<uint64_t>(ws.keyframes))
-        .set("dropped_queue_full", static_cast<uint64_t>(ws.dropped))
-        .set("tracking_waited_queue_full", static_cast<uint64_t>(ws.waits))
-        .set("queue_capacity", params.pipeline.keyframe_queue)
-        .set("queue_high_water", static_cast<uint64_t>(ws.queueHighWater))
-        .set("segmenter", mapper.worker().segmenterDescription())
-        .set("dynamic_pixel_fraction",
-             ws.dynamicPixels + ws.staticPixels > 0
-                 ? static_cast<double>(ws.dynamicPixels) /
-                       static_cast<double>(ws.dynamicPixels + ws.staticPixels)
-                 : 0.0);
-    metrics.set("keyframes", kf);
-    auto mapj = core::JsonValue::object();
-    mapj.set("points", static_cast<uint64_t>(mapPoints))
-        .set("octomap_occupied_voxels", static_cast<uint64_t>(octoVoxels))
-        .set("map_memory_mib", static_cast<double>(mapBytes) / (1024.0 * 1024.0))
-        .set("contributions_mib", static_cast<double>(contributionBytes) / (1024.0 * 1024.0))
-        .set("reanchored_keyframes", static_cast<uint64_t>(reanchor.moved))
-        .set("rebuilt", reanchor.rebuilt)
-        .set("max_keyframe_correction_m", reanchor.maxTranslation)
-        .set("max_keyframe_correction_deg", reanchor.maxRotationDeg)
-        .set("pruned_free_points", static_cast<uint64_t>(reanchor.pruned));
-    metrics.set("map", mapj);
-    auto timings = core::JsonValue::object();
-    timings.set("setup_s", setupMs / 1000.0)
-        .set("read_decode", timingJson(feeder.readMilliseconds()));
-    log.addTimings(timings);
-    timings.set("local_mapping_total_s", ms.totalSeconds)
-        .set("local_ba_s", ms.baSeconds)
-        .set("segmentation", timingJson(ws.segmentationMs))
-        .set("association", timingJson(ws.associationMs))
-        .set("map_insertion", timingJson(ws.insertionMs))
-        .set("keyframe_outputs", timingJson(ws.observerMs))
-        .set("frames_done_s", trackingWallS)
-        .set("finish_s", finishS)
-        .set("outputs_s", outputS)
-        .set("total_s", elapsed)
-        .set("frames_per_second", elapsed > 0 ? static_cast<double>(n) / elapsed : 0.0)
-        .set("peak_memory_mib", peakMemoryMiB());
-    metrics.set("timings", timings);
-    metrics.set("threads",
-                mrpt::format("reading, front end %s, tracking, local mapping %s, keyframe worker",
-                             params.pipeline.frame_queue > 0 ? "(own threads)" : "(on tracking)",
-                             params.localMapping.threaded ? "(own thread)" : "(on tracking)"));
-    if (!references.empty())
+    metrics.set("input", fs::absolute(options.input).string())
+        .set("source", s.source->description());
+    metrics.set("interrupted", s.interrupted);
+    s.log.describeInput(metrics);
+    metrics.set("input_ended_early", s.source->endedEarly());
+    metrics.set("tracking", trackingSummary(s.log, *s.mapper));
+    metrics.set("keyframes", keyFrameSummary(*s.mapper, parameters.pipeline));
+    metrics.set("map", mapSummary(s));
+    metrics.set("timings", timingSummary(s));
+    metrics.set(
+        "threads",
+        mrpt::format("reading, front end %s, tracking, local mapping %s, keyframe worker",
+                     parameters.pipeline.frame_queue > 0 ? "(own threads)" : "(on tracking)",
+                     parameters.localMapping.threaded ? "(own thread)" : "(on tracking)"));
+    addEvaluations(s, parameters.pipeline.snapshots, metrics, *this);
+    if (s.scorer)
     {
-        // The first reference is the run's evaluation (and plot); each further one is reported
-        // beside it (datasets whose pseudo ground truths disagree, e.g. 7-Scenes).
-        const std::string plot =
-            params.pipeline.snapshots ? (dir / "snapshots" / "ate.png").string() : std::string();
-        metrics.set("evaluation", evaluateTrajectory(references.front(), trajectory, plot, *this));
-        if (!plot.empty() && fs::exists(plot))
-            files.emplace_back("snapshots/ate.png");
-        auto others = core::JsonValue::array();
-        for (size_t k = 1; k < references.size(); k++)
-            others.push(evaluateTrajectory(references[k], trajectory, {}, *this));
-        if (references.size() > 1)
-            metrics.set("other_references", others);
+        metrics.set("segmentation_scores", s.scorer->toJson());
+        MRPT_LOG_INFO_STREAM(s.scorer->toText());
     }
-    if (scorer)
-    {
-        metrics.set("segmentation_scores", scorer->toJson());
-        MRPT_LOG_INFO_STREAM(scorer->toText());
-    }
-    writeText(dir / "metrics.json", metrics.dump());
-    files.emplace_back("metrics.json");
+    writeText(s.dir / "metrics.json", metrics.dump());
+    s.files.emplace_back("metrics.json");
+}
 
+void SemanticMapperApp::reportSummary(const detail::MapperRun& s, std::ostream& out)
+{
     if (const std::string diagnosis =
-            log.trackingDiagnosis(params.tracking.min_depth, params.tracking.max_depth);
+            s.log.trackingDiagnosis(parameters.tracking.min_depth, parameters.tracking.max_depth);
         !diagnosis.empty())
         MRPT_LOG_WARN(diagnosis);
-    result_ = {n, ws.keyframes, interrupted, outDir, input};
-    const size_t framesRead = n + log.skipped();
+    const size_t n = s.log.frames();
+    const size_t mapped = s.mapper->worker().stats().keyframes;
+    result_ = {n, mapped, s.interrupted, options.outputDirectory, options.input};
+    const double elapsed = s.elapsedS;
     MRPT_LOG_INFO_FMT(
         "%zu frames in %.2f s (%.1f frames/s): %zu with a pose, %zu lost, %zu keyframes mapped, "
         "%zu map points",
-        n, elapsed, elapsed > 0 ? static_cast<double>(n) / elapsed : 0.0, log.withPose(),
-        log.lost(), ws.keyframes, mapPoints);
-    out << "semantic-mapper: " << n << " frames from " << input << ", " << log.withPose()
-        << " tracked, " << ws.keyframes << " keyframes mapped"
-        << (interrupted ? " (interrupted)" : "") << "\noutputs in " << fs::absolute(outDir).string()
-        << "/:\n";
-    for (const auto& f : files)
+        n, elapsed, elapsed > 0 ? static_cast<double>(n) / elapsed : 0.0, s.log.withPose(),
+        s.log.lost(), mapped, s.mapPoints);
+    out << "semantic-mapper: " << n << " frames from " << options.input << ", " << s.log.withPose()
+        << " tracked, " << mapped << " keyframes mapped" << (s.interrupted ? " (interrupted)" : "")
+        << "\noutputs in " << fs::absolute(options.outputDirectory).string() << "/:\n";
+    for (const auto& f : s.files)
         out << "  " << f << "\n";
-    if (log.skipped() > 0)
-    {
+    if (s.log.skipped() > 0)
         MRPT_LOG_WARN_FMT(
             "%zu of %zu frames skipped (unreadable; frames.csv and metrics.json "
             "list them), the first: '%s': %s",
-            log.skipped(), framesRead, log.firstSkipped().file.c_str(),
-            log.firstSkipped().reason.c_str());
-    }
-    if (static_cast<double>(log.skipped()) >
-        sourceParams.max_skipped_fraction * static_cast<double>(framesRead))
+            s.log.skipped(), n + s.log.skipped(), s.log.firstSkipped().file.c_str(),
+            s.log.firstSkipped().reason.c_str());
+}
+
+void SemanticMapperApp::checkSkippedFraction(const detail::MapperRun& s) const
+{
+    const size_t framesRead = s.log.frames() + s.log.skipped();
+    if (static_cast<double>(s.log.skipped()) >
+        sourceParameters.max_skipped_fraction * static_cast<double>(framesRead))
         throw core::InputError(mrpt::format(
             "%zu of the %zu frames of '%s' could not be read, more than [input] "
             "max_skipped_fraction = %g: the outputs cover the %zu readable frames, but the "
             "recording is damaged",
-            log.skipped(), framesRead, input.c_str(), sourceParams.max_skipped_fraction, n));
-    return interrupted ? kExitInterrupted : kExitOk;
+            s.log.skipped(), framesRead, options.input.c_str(),
+            sourceParameters.max_skipped_fraction, s.log.frames()));
 }
 }  // namespace smap::apps
