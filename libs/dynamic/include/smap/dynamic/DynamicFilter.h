@@ -100,6 +100,8 @@ private:
     void processPaper(const cv::Mat& grey, const features::FeatureSet& features,
                       const core::PinholeCamera& camera, const Stopwatch& lap,
                       DynamicResult& result) const;
+    EgoMotion estimateStrongEgoMotion(const features::FeatureSet& features,
+                                      const core::PinholeCamera& camera) const;
     void processStrong(const cv::Mat& depth, const features::FeatureSet& features,
                        const core::PinholeCamera& camera, const Stopwatch& lap,
                        DynamicResult& result) const;
