@@ -67,120 +67,9 @@ TrackingResult Tracker::track(Frame frame)
     std::shared_ptr<KeyFrame> newKf;
     {
         std::lock_guard<std::mutex> lock(map_.mutex());
-        if (!initialised_)
-        {
-            if (initialise(frame))
-            {
-                result.status = TrackingStatus::Initialised;
-                newKf = reference_;
-                result.posedEarlierFrameId = poseEarlierFrameFromOdometry(frame);
-            }
-        }
-        else
-        {
-            if (last_)
-                followReplacedPoints(*last_);
-            bool ok = false;
-            bool relocalised = false;
-            if (!lost_)
-            {
-                if (velocity_ && last_ && frame.id > lastRelocalisationFrameId_ + 1)
-                    ok = trackWithMotionModel(frame, *velocity_) || trackReferenceKeyFrame(frame);
-                else
-                    // No velocity yet (just relocalised or re-anchored): the reference keyframe,
-                    // else the last frame's points around its pose (the camera moved little).
-                    ok = trackReferenceKeyFrame(frame) ||
-                         (last_ && trackWithMotionModel(frame, Eigen::Isometry3d::Identity()));
-            }
-            else
-            {
-                ok = relocalise(frame);
-                relocalised = ok;
-                if (ok)
-                    lastRelocalisationFrameId_ = frame.id;
-            }
-            if (ok)
-                ok = trackLocalMap(frame);
-            if (!ok && !lost_)
-                ok = trackWithRaisedWeights(frame);
-            bool reanchored = false;
-            const auto carried = odometryPose(frame);
-            if (!ok && lost_ && params_.reanchor_after > 0 &&
-                framesLost_ >= params_.reanchor_after && lastTracked_T_cam_world_)
-            {
-                // The pose the outside odometry carried forward; without it, constant velocity
-                // from the last tracked frame for at most reanchor_after frames (a longer
-                // extrapolation only adds error).
-                Eigen::Isometry3d T = *lastTracked_T_cam_world_;
-                if (carried)
-                    T = *carried;
-                else if (velocityAtLoss_)
-                    for (int k = 0; k <= std::min(framesLost_, params_.reanchor_after); ++k)
-                        T = *velocityAtLoss_ * T;
-                frame.T_cam_world = T;
-                frame.clearMatches();
-                reanchored = anchorKeyFrame(frame, 2 * params_.min_inliers_after_relocalisation);
-                if (reanchored)
-                {
-                    MRPT_LOG_WARN_FMT("re-anchored the map at frame %lu after %d lost frames",
-                                      static_cast<unsigned long>(frame.id), framesLost_);
-                    newKf = reference_;
-                    lost_ = false;
-                    framesLost_ = 0;
-                    velocity_.reset();
-                    lastTracked_T_cam_world_ = frame.T_cam_world;
-                    result.status = TrackingStatus::Reanchored;
-                }
-            }
-            if (ok)
-            {
-                result.status = relocalised ? TrackingStatus::Relocalised : TrackingStatus::Ok;
-                if (last_ && !lost_)
-                    velocity_ = frame.T_cam_world * last_->T_cam_world.inverse();
-                else
-                    velocity_.reset();
-                if (needNewKeyFrame(frame))
-                    newKf = createKeyFrame(frame);
-                frame.discardOutliers();
-                lost_ = false;
-                framesLost_ = 0;
-                lastTracked_T_cam_world_ = frame.T_cam_world;
-            }
-            else if (!reanchored)
-            {
-                if (!lost_)
-                {
-                    MRPT_LOG_WARN_FMT("tracking lost at frame %lu (t = %.3f)",
-                                      static_cast<unsigned long>(frame.id), frame.timestamp);
-                    velocityAtLoss_ = velocity_;
-                }
-                result.status = TrackingStatus::Lost;
-                velocity_.reset();
-                lost_ = true;
-                framesLost_++;
-            }
-            if (relocalised)
-                MRPT_LOG_INFO_FMT("relocalised at frame %lu", static_cast<unsigned long>(frame.id));
-            if (hasPose(result.status))
-                recentPoses_.emplace_back(frame.id, frame.T_cam_world);
-            else if (carried)
-                recentPoses_.emplace_back(frame.id, *carried);
-            while (recentPoses_.size() > 16)
-                recentPoses_.pop_front();
-        }
-        result.inliers = frame.countMatches();
-        result.frameId = frame.id;
-        FrameRecord rec;
-        rec.frameId = frame.id;
-        rec.timestamp = frame.timestamp;
-        rec.status = result.status;
-        if (hasPose(result.status) && reference_)
-        {
-            rec.reference = reference_;
-            rec.T_cam_reference = frame.T_cam_world * reference_->T_cam_world().inverse();
-            result.T_world_cam = frame.T_cam_world.inverse();
-        }
-        records_.push_back(rec);
+        newKf = state_ == TrackerState::NotInitialised ? startMap(frame, result)
+                                                       : trackOnMap(frame, result);
+        record(frame, result);
     }
     result.newKeyFrame = newKf != nullptr;
     last_ = std::move(frame);
@@ -192,6 +81,153 @@ TrackingResult Tracker::track(Frame frame)
     if (newKf)
         mapper_.insertKeyFrame(newKf);
     return result;
+}
+
+std::shared_ptr<KeyFrame> Tracker::startMap(Frame& frame, TrackingResult& result)
+{
+    if (!initialise(frame))
+        return nullptr;
+    result.status = TrackingStatus::Initialised;
+    result.posedEarlierFrameId = poseEarlierFrameFromOdometry(frame);
+    return reference_;
+}
+
+std::shared_ptr<KeyFrame> Tracker::trackOnMap(Frame& frame, TrackingResult& result)
+{
+    if (last_)
+        followReplacedPoints(*last_);
+    const Attempt attempt =
+        state_ == TrackerState::Lost ? trackWhileLost(frame) : trackWhileTracking(frame);
+    const auto carried = odometryPose(frame);
+    std::shared_ptr<KeyFrame> newKf;
+    bool reanchored = false;
+    if (!attempt.ok && state_ == TrackerState::Lost && params_.reanchor_after > 0 &&
+        framesLost_ >= params_.reanchor_after && lastTracked_T_cam_world_)
+    {
+        newKf = reanchor(frame, carried, result);
+        reanchored = newKf != nullptr;
+    }
+    if (attempt.ok)
+        newKf = acceptTracked(frame, attempt.relocalised, result);
+    else if (!reanchored)
+        markLost(frame, result);
+    if (attempt.relocalised)
+        MRPT_LOG_INFO_FMT("relocalised at frame %lu", static_cast<unsigned long>(frame.id));
+    rememberPose(frame, result, carried);
+    return newKf;
+}
+
+Tracker::Attempt Tracker::trackWhileTracking(Frame& frame)
+{
+    bool ok = false;
+    if (velocity_ && last_ && frame.id > lastRelocalisationFrameId_ + 1)
+        ok = trackWithMotionModel(frame, *velocity_) || trackReferenceKeyFrame(frame);
+    else
+        // No velocity yet (just relocalised or re-anchored): the reference keyframe, else the
+        // last frame's points around its pose (the camera moved little).
+        ok = trackReferenceKeyFrame(frame) ||
+             (last_ && trackWithMotionModel(frame, Eigen::Isometry3d::Identity()));
+    if (ok)
+        ok = trackLocalMap(frame);
+    if (!ok)
+        ok = trackWithRaisedWeights(frame);
+    return {ok, false};
+}
+
+Tracker::Attempt Tracker::trackWhileLost(Frame& frame)
+{
+    const bool relocalised = relocalise(frame);
+    if (relocalised)
+        lastRelocalisationFrameId_ = frame.id;
+    return {relocalised && trackLocalMap(frame), relocalised};
+}
+
+std::shared_ptr<KeyFrame> Tracker::reanchor(Frame& frame,
+                                            const std::optional<Eigen::Isometry3d>& carried,
+                                            TrackingResult& result)
+{
+    // The pose the outside odometry carried forward; without it, constant velocity from the
+    // last tracked frame for at most reanchor_after frames (a longer extrapolation only adds
+    // error).
+    Eigen::Isometry3d T = *lastTracked_T_cam_world_;
+    if (carried)
+        T = *carried;
+    else if (velocityAtLoss_)
+        for (int k = 0; k <= std::min(framesLost_, params_.reanchor_after); ++k)
+            T = *velocityAtLoss_ * T;
+    frame.T_cam_world = T;
+    frame.clearMatches();
+    if (!anchorKeyFrame(frame, 2 * params_.min_inliers_after_relocalisation))
+        return nullptr;
+    MRPT_LOG_WARN_FMT("re-anchored the map at frame %lu after %d lost frames",
+                      static_cast<unsigned long>(frame.id), framesLost_);
+    state_ = TrackerState::Tracking;
+    framesLost_ = 0;
+    velocity_.reset();
+    lastTracked_T_cam_world_ = frame.T_cam_world;
+    result.status = TrackingStatus::Reanchored;
+    return reference_;
+}
+
+std::shared_ptr<KeyFrame> Tracker::acceptTracked(Frame& frame, bool relocalised,
+                                                 TrackingResult& result)
+{
+    result.status = relocalised ? TrackingStatus::Relocalised : TrackingStatus::Ok;
+    if (last_ && state_ != TrackerState::Lost)
+        velocity_ = frame.T_cam_world * last_->T_cam_world.inverse();
+    else
+        velocity_.reset();
+    std::shared_ptr<KeyFrame> newKf;
+    if (needNewKeyFrame(frame))
+        newKf = createKeyFrame(frame);
+    frame.discardOutliers();
+    state_ = TrackerState::Tracking;
+    framesLost_ = 0;
+    lastTracked_T_cam_world_ = frame.T_cam_world;
+    return newKf;
+}
+
+void Tracker::markLost(const Frame& frame, TrackingResult& result)
+{
+    if (state_ != TrackerState::Lost)
+    {
+        MRPT_LOG_WARN_FMT("tracking lost at frame %lu (t = %.3f)",
+                          static_cast<unsigned long>(frame.id), frame.timestamp);
+        velocityAtLoss_ = velocity_;
+    }
+    result.status = TrackingStatus::Lost;
+    velocity_.reset();
+    state_ = TrackerState::Lost;
+    framesLost_++;
+}
+
+void Tracker::rememberPose(const Frame& frame, const TrackingResult& result,
+                           const std::optional<Eigen::Isometry3d>& carried)
+{
+    constexpr size_t kRecentPoses = 16;
+    if (hasPose(result.status))
+        recentPoses_.emplace_back(frame.id, frame.T_cam_world);
+    else if (carried)
+        recentPoses_.emplace_back(frame.id, *carried);
+    while (recentPoses_.size() > kRecentPoses)
+        recentPoses_.pop_front();
+}
+
+void Tracker::record(const Frame& frame, TrackingResult& result)
+{
+    result.inliers = frame.countMatches();
+    result.frameId = frame.id;
+    FrameRecord rec;
+    rec.frameId = frame.id;
+    rec.timestamp = frame.timestamp;
+    rec.status = result.status;
+    if (hasPose(result.status) && reference_)
+    {
+        rec.reference = reference_;
+        rec.T_cam_reference = frame.T_cam_world * reference_->T_cam_world().inverse();
+        result.T_world_cam = frame.T_cam_world.inverse();
+    }
+    records_.push_back(rec);
 }
 
 std::optional<uint64_t> Tracker::poseEarlierFrameFromOdometry(const Frame& frame)
@@ -245,7 +281,7 @@ bool Tracker::initialise(Frame& frame)
     frame.T_cam_world = Eigen::Isometry3d::Identity();
     if (!anchorKeyFrame(frame, params_.init_min_points))
         return false;
-    initialised_ = true;
+    state_ = TrackerState::Tracking;
     lastTracked_T_cam_world_ = frame.T_cam_world;
     recentPoses_.emplace_back(frame.id, frame.T_cam_world);
     MRPT_LOG_INFO_FMT("map initialised at frame %lu with %zu points",

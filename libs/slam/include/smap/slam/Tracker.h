@@ -86,6 +86,37 @@ public:
     const std::vector<FrameRecord>& records() const { return records_; }
 
 private:
+    /// Where the tracker stands between frames (ORB-SLAM's eTrackingState); the per-frame
+    /// outcome is TrackingStatus.
+    enum class TrackerState
+    {
+        NotInitialised,  ///< no map yet: each frame tries to start it
+        Tracking,        ///< the last frame had a pose: motion model / reference keyframe
+        Lost,            ///< relocalisation (or re-anchoring) until a frame is placed
+    };
+    /// One frame's attempt on the map: placed, and whether by relocalisation.
+    struct Attempt
+    {
+        bool ok = false;
+        bool relocalised = false;
+    };
+
+    /// NotInitialised: the frame starts the map when it has enough depth.
+    std::shared_ptr<KeyFrame> startMap(Frame& frame, TrackingResult& result);
+    /// Tracking or Lost: the state's attempt, then re-anchoring, acceptance or loss.
+    std::shared_ptr<KeyFrame> trackOnMap(Frame& frame, TrackingResult& result);
+    Attempt trackWhileTracking(Frame& frame);
+    Attempt trackWhileLost(Frame& frame);
+    /// Lost for reanchor_after frames: a new keyframe at the carried or extrapolated pose.
+    std::shared_ptr<KeyFrame> reanchor(Frame& frame,
+                                       const std::optional<Eigen::Isometry3d>& carried,
+                                       TrackingResult& result);
+    std::shared_ptr<KeyFrame> acceptTracked(Frame& frame, bool relocalised, TrackingResult& result);
+    void markLost(const Frame& frame, TrackingResult& result);
+    void rememberPose(const Frame& frame, const TrackingResult& result,
+                      const std::optional<Eigen::Isometry3d>& carried);
+    void record(const Frame& frame, TrackingResult& result);
+
     bool initialise(Frame& frame);
     /// Projection search of the last frame's points at velocity x its pose, then pose-only BA.
     bool trackWithMotionModel(Frame& frame, const Eigen::Isometry3d& velocity);
@@ -111,8 +142,7 @@ private:
     Map& map_;
     LocalMapper& mapper_;
     TrackerParameters params_;
-    bool initialised_ = false;
-    bool lost_ = false;
+    TrackerState state_ = TrackerState::NotInitialised;
     std::optional<Frame> last_;
     std::optional<Eigen::Isometry3d> velocity_;  ///< T_cam_lastcam of the last step
     /// Re-anchoring: the last frame with a pose, the velocity then, frames lost since.
