@@ -34,50 +34,58 @@ Eigen::Vector3d CompositedPerson::feetAt(double t) const
     return start + x * direction;
 }
 
-PeopleCompositor::PeopleCompositor(const std::vector<cv::Mat>& sprites,
-                                   const core::Trajectory& T_world_cam,
-                                   const std::vector<Probe>& probes, size_t count, uint32_t seed)
+namespace
 {
-    if (sprites.empty() || T_world_cam.empty() || probes.empty())
-        throw core::InputError("compositing needs cut-outs, a ground-truth trajectory and a frame");
-    // Prior for "up": image up (-y of the optical frame) averaged over the trajectory. It is
-    // biased by the camera's mean pitch, so it only seeds the floor fit below.
+using Probes = std::vector<PeopleCompositor::Probe>;
+
+/// Prior for "up": image up (-y of the optical frame) averaged over the trajectory. It is biased
+/// by the camera's mean pitch, so it only seeds the floor fit.
+Eigen::Vector3d upPrior(const core::Trajectory& T_world_cam)
+{
     Eigen::Vector3d prior = Eigen::Vector3d::Zero();
     for (const auto& p : T_world_cam)
         prior -= rotation(p.T_world_cam).col(1);
-    prior.normalize();
+    return prior.normalized();
+}
 
-    // World points seen by the probes, subsampled.
+/// World points seen by the probes, every 6th pixel in u and v.
+std::vector<Eigen::Vector3d> probeWorldPoints(const Probes& probes)
+{
+    constexpr int kStep = 6;
     std::vector<Eigen::Vector3d> points;
     for (const auto& pr : probes)
     {
         const Eigen::Matrix3d R = rotation(pr.T_world_cam);
         const Eigen::Vector3d c = translation(pr.T_world_cam);
-        for (int v = 0; v < pr.frame.depth.rows; v += 6)
-        {
-            for (int u = 0; u < pr.frame.depth.cols; u += 6)
+        for (int v = 0; v < pr.frame.depth.rows; v += kStep)
+            for (int u = 0; u < pr.frame.depth.cols; u += kStep)
             {
                 const float z = pr.frame.depth.at<float>(v, u);
                 if (z > 0)
                     points.push_back(R * pr.frame.camera.unproject(u, v, z) + c);
             }
-        }
     }
-    if (points.size() < 200)
-        throw core::InputError(
-            "compositing: the frames have too little valid depth to find the floor");
-    // Floor: RANSAC plane among the lowest 30% of points (along the prior), within 35 degrees of
-    // horizontal; its normal becomes "up" and its offset the floor height.
-    std::sort(points.begin(), points.end(),
-              [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b)
-              { return prior.dot(a) < prior.dot(b); });
-    points.resize(points.size() * 3 / 10);
+    return points;
+}
+
+struct FloorPlane
+{
+    Eigen::Vector3d up;
+    double height = 0.0;  ///< along up
+    size_t inliers = 0;
+};
+
+/// RANSAC plane among `points` (the lowest along the prior), within 35 degrees of horizontal.
+FloorPlane fitFloorPlane(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& prior,
+                         uint32_t seed)
+{
+    constexpr int kIterations = 300;
+    constexpr double kInlierDistance = 0.02;  // m
+    const double minCos = std::cos(35.0 * M_PI / 180.0);
     std::mt19937 rngPlane(seed ^ 0x5eedu);
     std::uniform_int_distribution<size_t> pick(0, points.size() - 1);
-    size_t bestInliers = 0;
-    up_ = prior;
-    floorHeight_ = prior.dot(points[points.size() / 30]);
-    for (int it = 0; it < 300; it++)
+    FloorPlane best{prior, prior.dot(points[points.size() / 30]), 0};
+    for (int it = 0; it < kIterations; it++)
     {
         const Eigen::Vector3d a = points[pick(rngPlane)], b = points[pick(rngPlane)],
                               c = points[pick(rngPlane)];
@@ -87,138 +95,180 @@ PeopleCompositor::PeopleCompositor(const std::vector<cv::Mat>& sprites,
         n.normalize();
         if (n.dot(prior) < 0)
             n = -n;
-        if (n.dot(prior) < std::cos(35.0 * M_PI / 180.0))
+        if (n.dot(prior) < minCos)
             continue;
         const double d = n.dot(a);
         size_t inliers = 0;
         for (const auto& q : points)
-            inliers += std::abs(n.dot(q) - d) < 0.02 ? 1 : 0;
-        if (inliers > bestInliers)
+            inliers += std::abs(n.dot(q) - d) < kInlierDistance ? 1 : 0;
+        if (inliers > best.inliers)
+            best = {n, d, inliers};
+    }
+    return best;
+}
+
+/// A table or a counter can out-vote the floor when the camera looks down at it. Floor and
+/// table are parallel: along the plane's normal, the lowest 4 cm slab holding at least a
+/// quarter of its support, more than 20 cm below it, is the floor. Returns the floor height.
+double lowestParallelSlab(const std::vector<Eigen::Vector3d>& points, const FloorPlane& plane)
+{
+    constexpr double kSlab = 0.04, kBelow = 0.2;  // m
+    std::vector<double> heights;
+    heights.reserve(points.size());
+    for (const auto& q : points)
+        heights.push_back(plane.up.dot(q));
+    std::sort(heights.begin(), heights.end());
+    size_t end = 0;
+    for (size_t i = 0; i < heights.size(); ++i)
+    {
+        end = std::max(end, i);
+        while (end < heights.size() && heights[end] < heights[i] + kSlab)
+            end++;
+        const double centre = heights[(i + end) / 2];
+        if (centre > plane.height - kBelow)
+            break;
+        if (4 * (end - i) >= plane.inliers)
+            return centre;
+    }
+    return plane.height;
+}
+
+/// Whether world point X is inside a surface some probe sees, and whether some probe sees
+/// through it (free space).
+std::pair<bool, bool> insideOrSeenFree(const Eigen::Vector3d& X, const Probes& probes)
+{
+    bool seenFree = false, inside = false;
+    for (const auto& pr : probes)
+    {
+        const Eigen::Vector3d Xc =
+            rotation(pr.T_world_cam).transpose() * (X - translation(pr.T_world_cam));
+        if (Xc.z() < 0.3)
+            continue;
+        const Eigen::Vector2d uv = pr.frame.camera.project(Xc);
+        const long u = std::lround(uv.x()), v = std::lround(uv.y());
+        if (u < 0 || v < 0 || u >= pr.frame.camera.width || v >= pr.frame.camera.height)
+            continue;
+        const float z = pr.frame.depth.at<float>(static_cast<int>(v), static_cast<int>(u));
+        if (z <= 0)
+            continue;
+        if (std::abs(z - Xc.z()) < 0.2)
+            inside = true;
+        if (z > Xc.z() + 0.2)
+            seenFree = true;
+    }
+    return {inside, seenFree};
+}
+
+/// Body samples (feet to head, left to right) of a walking line that are not known to be free
+/// space: inside a surface some probe sees, or seen free by no probe (hidden behind walls or
+/// furniture, or never in view).
+FreeSpaceCheck collisions(const CompositedPerson& p, const Eigen::Vector3d& up,
+                          const Probes& probes)
+{
+    FreeSpaceCheck c;
+    for (double x = -p.halfRange; x <= p.halfRange + 1e-9; x += p.halfRange / 4)
+        // From 0.35 m up: rays through lower samples meet the floor just behind them.
+        for (double h = 0.35; h < p.height; h += 0.2)
+            for (double a : {-0.2, 0.0, 0.2})
+            {
+                const Eigen::Vector3d X =
+                    p.start + x * p.direction + h * up + a * up.cross(p.direction);
+                const auto [inside, seenFree] = insideOrSeenFree(X, probes);
+                c.samples++;
+                c.inside += inside ? 1 : 0;
+                c.unseen += (!inside && !seenFree) ? 1 : 0;
+            }
+    return c;
+}
+
+/// The random draws of a walking line, in the order the published composites drew them.
+struct PlacementDraws
+{
+    std::mt19937 rng;
+    std::uniform_real_distribution<double> dist{1.2, 3.5}, lateral{-1.0, 1.0}, speed{0.5, 1.3},
+        height{1.6, 1.85}, phase{0.0, 5.0};
+    std::uniform_real_distribution<double> heading{-1.0, 1.0}, range{0.5, 1.0};
+    explicit PlacementDraws(uint32_t seed) : rng(seed) {}
+};
+
+/// Person i walks in front of probe i * probes / count, so that people are spread over the
+/// sequence rather than all left behind at its start: of up to 200 random walking lines, the
+/// first with all its body samples in known free space, else the one with the fewest outside.
+std::pair<CompositedPerson, FreeSpaceCheck> placePerson(const std::vector<cv::Mat>& sprites,
+                                                        const Probes& probes,
+                                                        const Eigen::Vector3d& up,
+                                                        double floorHeight, size_t i, size_t count,
+                                                        uint32_t seed, PlacementDraws& draws)
+{
+    constexpr int kAttempts = 200;
+    const auto& anchor = probes[i * probes.size() / count].T_world_cam;
+    Eigen::Vector3d forward = rotation(anchor).col(2);
+    forward -= up * up.dot(forward);
+    forward.normalize();
+    const Eigen::Vector3d side = up.cross(forward).normalized();
+    const Eigen::Vector3d c0 = translation(anchor);
+    const Eigen::Vector3d ground = c0 - up * (up.dot(c0) - floorHeight);
+    CompositedPerson best;
+    FreeSpaceCheck bestCheck;
+    size_t bestHits = std::numeric_limits<size_t>::max();
+    for (int attempt = 0; attempt < kAttempts && bestHits > 0; attempt++)
+    {
+        CompositedPerson p;
+        p.sprite = sprites[(seed + i) % sprites.size()];
+        p.height = draws.height(draws.rng);
+        p.start = ground + draws.dist(draws.rng) * forward + draws.lateral(draws.rng) * side;
+        // Mostly across the anchor view, up to +-1 rad off it.
+        const double ang = draws.heading(draws.rng);
+        p.direction = (std::cos(ang) * side + std::sin(ang) * forward) * (i % 2 == 0 ? 1.0 : -1.0);
+        p.halfRange = draws.range(draws.rng);
+        p.speed = draws.speed(draws.rng);
+        p.phase = draws.phase(draws.rng);
+        p.instanceId = static_cast<uint16_t>(i + 1);
+        const FreeSpaceCheck check = collisions(p, up, probes);
+        if (check.inside + check.unseen < bestHits)
         {
-            bestInliers = inliers;
-            up_ = n;
-            floorHeight_ = d;
+            bestHits = check.inside + check.unseen;
+            bestCheck = check;
+            best = p;
         }
     }
-    // A table or a counter can out-vote the floor when the camera looks down at it. Floor and
-    // table are parallel: along the best plane's normal, the lowest 4 cm slab holding at
-    // least a quarter of its support, more than 20 cm below it, is the floor.
-    {
-        std::vector<double> heights;
-        heights.reserve(points.size());
-        for (const auto& q : points)
-            heights.push_back(up_.dot(q));
-        std::sort(heights.begin(), heights.end());
-        size_t end = 0;
-        for (size_t i = 0; i < heights.size(); ++i)
-        {
-            end = std::max(end, i);
-            while (end < heights.size() && heights[end] < heights[i] + 0.04)
-                end++;
-            const double centre = heights[(i + end) / 2];
-            if (centre > floorHeight_ - 0.2)
-                break;
-            if (4 * (end - i) >= bestInliers)
-            {
-                floorHeight_ = centre;
-                break;
-            }
-        }
-    }
+    return {best, bestCheck};
+}
+}  // namespace
 
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<double> dist(1.2, 3.5), lateral(-1.0, 1.0), speed(0.5, 1.3),
-        height(1.6, 1.85), phase(0.0, 5.0);
+PeopleCompositor::PeopleCompositor(const std::vector<cv::Mat>& sprites,
+                                   const core::Trajectory& T_world_cam,
+                                   const std::vector<Probe>& probes, size_t count, uint32_t seed)
+{
+    if (sprites.empty() || T_world_cam.empty() || probes.empty())
+        throw core::InputError("compositing needs cut-outs, a ground-truth trajectory and a frame");
+    const Eigen::Vector3d prior = upPrior(T_world_cam);
+    std::vector<Eigen::Vector3d> points = probeWorldPoints(probes);
+    constexpr size_t kMinFloorPoints = 200;
+    if (points.size() < kMinFloorPoints)
+        throw core::InputError(
+            "compositing: the frames have too little valid depth to find the floor");
+    // Floor: among the lowest 30% of points (along the prior); its normal becomes "up" and its
+    // offset the floor height.
+    std::sort(points.begin(), points.end(),
+              [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b)
+              { return prior.dot(a) < prior.dot(b); });
+    points.resize(points.size() * 3 / 10);
+    const FloorPlane plane = fitFloorPlane(points, prior, seed);
+    up_ = plane.up;
+    floorHeight_ = lowestParallelSlab(points, plane);
 
-    // Body samples (feet to head, left to right) of a walking line that are not known to be free
-    // space: inside a surface some probe sees, or seen free by no probe (hidden behind walls or
-    // furniture, or never in view).
-    auto collisions = [&](const CompositedPerson& p)
-    {
-        FreeSpaceCheck c;
-        for (double x = -p.halfRange; x <= p.halfRange + 1e-9; x += p.halfRange / 4)
-        {
-            // From 0.35 m up: rays through lower samples meet the floor just behind them.
-            for (double h = 0.35; h < p.height; h += 0.2)
-            {
-                for (double a : {-0.2, 0.0, 0.2})
-                {
-                    const Eigen::Vector3d X =
-                        p.start + x * p.direction + h * up_ + a * up_.cross(p.direction);
-                    bool seenFree = false, inside = false;
-                    for (const auto& pr : probes)
-                    {
-                        const Eigen::Matrix3d R = rotation(pr.T_world_cam);
-                        const Eigen::Vector3d Xc =
-                            R.transpose() * (X - translation(pr.T_world_cam));
-                        if (Xc.z() < 0.3)
-                            continue;
-                        const Eigen::Vector2d uv = pr.frame.camera.project(Xc);
-                        const long u = std::lround(uv.x()), v = std::lround(uv.y());
-                        if (u < 0 || v < 0 || u >= pr.frame.camera.width ||
-                            v >= pr.frame.camera.height)
-                            continue;
-                        const float z =
-                            pr.frame.depth.at<float>(static_cast<int>(v), static_cast<int>(u));
-                        if (z <= 0)
-                            continue;
-                        if (std::abs(z - Xc.z()) < 0.2)
-                            inside = true;
-                        if (z > Xc.z() + 0.2)
-                            seenFree = true;
-                    }
-                    c.samples++;
-                    c.inside += inside ? 1 : 0;
-                    c.unseen += (!inside && !seenFree) ? 1 : 0;
-                }
-            }
-        }
-        return c;
-    };
-    std::uniform_real_distribution<double> heading(-1.0, 1.0), range(0.5, 1.0);
-
+    PlacementDraws draws(seed);
     for (size_t i = 0; i < count; i++)
     {
-        // Person i walks in front of probe i * probes / count, so that people are spread over
-        // the sequence rather than all left behind at its start.
-        const auto& anchor = probes[i * probes.size() / count].T_world_cam;
-        Eigen::Vector3d forward = rotation(anchor).col(2);
-        forward -= up_ * up_.dot(forward);
-        forward.normalize();
-        const Eigen::Vector3d side = up_.cross(forward).normalized();
-        const Eigen::Vector3d c0 = translation(anchor);
-        const Eigen::Vector3d ground = c0 - up_ * (up_.dot(c0) - floorHeight_);
-        CompositedPerson best;
-        FreeSpaceCheck bestCheck;
-        size_t bestHits = std::numeric_limits<size_t>::max();
-        for (int attempt = 0; attempt < 200 && bestHits > 0; attempt++)
-        {
-            CompositedPerson p;
-            p.sprite = sprites[(seed + i) % sprites.size()];
-            p.height = height(rng);
-            p.start = ground + dist(rng) * forward + lateral(rng) * side;
-            // Mostly across the anchor view, up to +-1 rad off it.
-            const double ang = heading(rng);
-            p.direction =
-                (std::cos(ang) * side + std::sin(ang) * forward) * (i % 2 == 0 ? 1.0 : -1.0);
-            p.halfRange = range(rng);
-            p.speed = speed(rng);
-            p.phase = phase(rng);
-            p.instanceId = static_cast<uint16_t>(i + 1);
-            const FreeSpaceCheck check = collisions(p);
-            if (check.inside + check.unseen < bestHits)
-            {
-                bestHits = check.inside + check.unseen;
-                bestCheck = check;
-                best = p;
-            }
-        }
-        freeSpace_.samples += bestCheck.samples;
-        freeSpace_.inside += bestCheck.inside;
-        freeSpace_.unseen += bestCheck.unseen;
-        people_.push_back(best);
+        const auto [person, check] =
+            placePerson(sprites, probes, up_, floorHeight_, i, count, seed, draws);
+        freeSpace_.samples += check.samples;
+        freeSpace_.inside += check.inside;
+        freeSpace_.unseen += check.unseen;
+        people_.push_back(person);
         // Flat, unfiltered: the compositing of the first published composites.
-        billboards_.emplace_back(best.sprite, BillboardStyle{});
+        billboards_.emplace_back(person.sprite, BillboardStyle{});
     }
 }
 
