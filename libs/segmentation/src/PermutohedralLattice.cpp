@@ -226,6 +226,146 @@ void enclosingSimplex(const float* f, int d, const double* scale, int* rem0, int
     for (int r = 0; r < d1; r++)
         weights[r] = static_cast<float>(bary[r]);
 }
+/// Embedding into the hyperplane sum(x) = 0 of R^(d+1) with the orthonormal basis
+/// u_i = (1, ..., 1, -i, 0, ..., 0) / sqrt(i (i+1)) (i ones), scaled so that the lattice blur
+/// approximates a unit Gaussian: sqrt(2/3) (d+1) (Adams et al., section 3).
+std::vector<double> embeddingScales(int d)
+{
+    std::vector<double> scale(static_cast<size_t>(d));
+    const double invStd = std::sqrt(2.0 / 3.0) * (d + 1);
+    for (int i = 1; i <= d; i++)
+        scale[static_cast<size_t>(i - 1)] = invStd / std::sqrt(static_cast<double>(i) * (i + 1));
+    return scale;
+}
+
+/// The enclosing simplex of every point (rows of `features`), in parallel.
+void computeSimplices(const cv::Mat& features, const std::vector<double>& scale,
+                      std::vector<int>& rem0, std::vector<int>& rank, std::vector<float>& weights)
+{
+    const int n = features.rows, d = features.cols, d1 = d + 1;
+    rem0.resize(static_cast<size_t>(n) * d1);
+    rank.resize(static_cast<size_t>(n) * d1);
+    weights.resize(static_cast<size_t>(n) * d1);
+    cv::parallel_for_(cv::Range(0, n),
+                      [&](const cv::Range& range)
+                      {
+                          double elevated[PermutohedralLattice::kMaxDimensions + 1];
+                          double bary[PermutohedralLattice::kMaxDimensions + 2];
+                          for (int p = range.start; p < range.end; p++)
+                          {
+                              const size_t at = static_cast<size_t>(p) * d1;
+                              enclosingSimplex(features.ptr<float>(p), d, scale.data(),
+                                               rem0.data() + at, rank.data() + at,
+                                               weights.data() + at, elevated, bary);
+                          }
+                      });
+}
+
+/// Whether every vertex key (and its neighbours') fits the packed 64-bit form: vertex
+/// coordinates stay within rem0 +- (d+1), neighbours' within +- 2 (d+1) more.
+bool keysPackable(const std::vector<int>& rem0, int d)
+{
+    int largest = 0;
+    for (const int r : rem0)
+        largest = std::max(largest, std::abs(r));
+    return d * KeyTable::kPackBits <= 64 && largest + 3 * (d + 1) < KeyTable::kPackLimit;
+}
+
+/// The vertices of stripe `st`'s points hashed into its own table (ids local to the stripe).
+void hashStripe(int st, int stripes, int n, int d, const std::vector<int>& rem0,
+                const std::vector<int>& rank, KeyTable& table, std::vector<int>& vertexOfPoint)
+{
+    const int d1 = d + 1;
+    std::vector<int> key(static_cast<size_t>(d));
+    const int begin = static_cast<int>(static_cast<int64_t>(n) * st / stripes);
+    const int end = static_cast<int>(static_cast<int64_t>(n) * (st + 1) / stripes);
+    for (int p = begin; p < end; p++)
+    {
+        const size_t at = static_cast<size_t>(p) * d1;
+        const int* r0 = rem0.data() + at;
+        const int* rk = rank.data() + at;
+        int* v = vertexOfPoint.data() + at;
+        // Neighbouring pixels often share a simplex: reuse the previous point's.
+        if (p > begin && sameInts(r0, r0 - d1, d1) && sameInts(rk, rk - d1, d1))
+        {
+            std::copy(v - d1, v, v);
+            continue;
+        }
+        // Vertex r: the remainder-0 corner plus the canonical simplex's vertex r.
+        for (int r = 0; r < d1; r++)
+        {
+            for (int j = 0; j < d; j++)
+                key[static_cast<size_t>(j)] = r0[j] + (rk[j] > d - r ? r - d1 : r);
+            v[r] = table.insert(key.data());
+        }
+    }
+}
+
+/// The stripes' tables merged into the first in stripe order (so ids depend on the stripe
+/// count only), `vertexOfPoint` renumbered to the merged ids.
+void mergeStripes(std::vector<KeyTable>& tables, bool packable, int n, int d1,
+                  std::vector<int>& vertexOfPoint)
+{
+    const int stripes = static_cast<int>(tables.size());
+    KeyTable& table = tables[0];
+    for (int st = 1; st < stripes; st++)
+    {
+        const KeyTable& local = tables[static_cast<size_t>(st)];
+        std::vector<int> global(static_cast<size_t>(local.size()));
+        for (int id = 0; id < local.size(); id++)
+            global[static_cast<size_t>(id)] =
+                packable ? table.insertPacked(local.packedKey(id)) : table.insert(local.key(id));
+        const size_t begin = static_cast<size_t>(static_cast<int64_t>(n) * st / stripes) * d1;
+        const size_t end = static_cast<size_t>(static_cast<int64_t>(n) * (st + 1) / stripes) * d1;
+        for (size_t slot = begin; slot < end; slot++)
+            vertexOfPoint[slot] = global[static_cast<size_t>(vertexOfPoint[slot])];
+    }
+}
+
+/// Neighbours of every vertex along each lattice axis j: +-(1, ..., 1, -d, 1, ..., 1) (-d at j),
+/// -1 where the lattice has no such vertex; (v * (d+1) + j) * 2 + (0: minus, 1: plus).
+std::vector<int> findNeighbours(const KeyTable& table, int d, bool packable, int stripes)
+{
+    const int d1 = d + 1, m = table.size();
+    std::vector<int> neighbours(static_cast<size_t>(m) * d1 * 2, -1);
+    auto offset = [d](int i, int j, int sgn) { return (sgn == 0 ? -1 : 1) * (i == j ? -d : 1); };
+    std::vector<uint64_t> step(static_cast<size_t>(d1) * 2);
+    if (packable)
+    {
+        std::vector<int> nb(static_cast<size_t>(d));
+        for (int j = 0; j < d1; j++)
+            for (int sgn = 0; sgn < 2; sgn++)
+            {
+                for (int i = 0; i < d; i++)
+                    nb[static_cast<size_t>(i)] = offset(i, j, sgn);
+                step[static_cast<size_t>(j) * 2 + sgn] = table.packedOffset(nb.data());
+            }
+    }
+    cv::parallel_for_(
+        cv::Range(0, m),
+        [&](const cv::Range& range)
+        {
+            std::vector<int> nbKey(static_cast<size_t>(d));
+            for (int v = range.start; v < range.end; v++)
+                for (int j = 0; j < d1; j++)
+                    for (int sgn = 0; sgn < 2; sgn++)
+                    {
+                        int& out = neighbours[(static_cast<size_t>(v) * d1 + j) * 2 + sgn];
+                        if (packable)
+                        {
+                            out = table.lookupPacked(table.packedKey(v) +
+                                                     step[static_cast<size_t>(j) * 2 + sgn]);
+                            continue;
+                        }
+                        const int* k = table.key(v);
+                        for (int i = 0; i < d; i++)
+                            nbKey[static_cast<size_t>(i)] = k[i] + offset(i, j, sgn);
+                        out = table.lookup(nbKey.data());
+                    }
+        },
+        stripes);
+    return neighbours;
+}
 }  // namespace
 
 PermutohedralLattice::PermutohedralLattice(const cv::Mat& features)
@@ -239,146 +379,31 @@ void PermutohedralLattice::build(const cv::Mat& features)
               features.cols <= kMaxDimensions && features.rows > 0);
     d_ = features.cols;
     n_ = features.rows;
-    const int d = d_, d1 = d_ + 1;
-
-    // Embedding into the hyperplane sum(x) = 0 of R^(d+1) with the orthonormal basis
-    // u_i = (1, ..., 1, -i, 0, ..., 0) / sqrt(i (i+1)) (i ones), scaled so that the lattice
-    // blur below approximates a unit Gaussian: sqrt(2/3) (d+1) (Adams et al., section 3).
-    std::vector<double> scale(static_cast<size_t>(d));
-    const double invStd = std::sqrt(2.0 / 3.0) * d1;
-    for (int i = 1; i <= d; i++)
-        scale[static_cast<size_t>(i - 1)] = invStd / std::sqrt(static_cast<double>(i) * (i + 1));
-
-    // Simplices of all points in parallel, then their vertices hashed.
-    // rem0_/rank_ and the other buffers keep their capacity from build to build.
-    rem0_.resize(static_cast<size_t>(n_) * d1);
-    rank_.resize(static_cast<size_t>(n_) * d1);
-    std::vector<int>& rem0 = rem0_;
-    std::vector<int>& rank = rank_;
-    weightOfPoint_.resize(static_cast<size_t>(n_) * d1);
-    cv::parallel_for_(cv::Range(0, n_),
-                      [&](const cv::Range& range)
-                      {
-                          double elevated[kMaxDimensions + 1];
-                          double bary[kMaxDimensions + 2];
-                          for (int p = range.start; p < range.end; p++)
-                          {
-                              const size_t at = static_cast<size_t>(p) * d1;
-                              enclosingSimplex(features.ptr<float>(p), d, scale.data(),
-                                               rem0.data() + at, rank.data() + at,
-                                               weightOfPoint_.data() + at, elevated, bary);
-                          }
-                      });
-    // Images have far fewer vertices than points (about 1 in 7 at 320x240); the table grows.
-    // Vertex coordinates stay within rem0 +- (d+1), neighbours' within +- 2 (d+1) more.
-    int largest = 0;
-    for (const int r : rem0)
-        largest = std::max(largest, std::abs(r));
-    const bool packable = d * KeyTable::kPackBits <= 64 && largest + 3 * d1 < KeyTable::kPackLimit;
-    // Stripes of points are hashed in parallel, each into its own table; the stripes' tables
-    // are then merged into the first in stripe order (so ids depend on the stripe count only).
+    const int d1 = d_ + 1;
+    // Simplices of all points in parallel, then their vertices hashed. The buffers keep their
+    // capacity from build to build.
+    computeSimplices(features, embeddingScales(d_), rem0_, rank_, weightOfPoint_);
+    // Images have far fewer vertices than points (about 1 in 7 at 320x240); the tables grow.
+    const bool packable = keysPackable(rem0_, d_);
+    // Stripes of points are hashed in parallel, each into its own table, then merged.
     const int stripes = std::max(1, std::min(cv::getNumThreads(), 8));
     std::vector<KeyTable> tables;
     tables.reserve(static_cast<size_t>(stripes));
     for (int st = 0; st < stripes; st++)
-        tables.emplace_back(d, static_cast<size_t>(n_) / (8 * stripes), packable);
+        tables.emplace_back(d_, static_cast<size_t>(n_) / (8 * stripes), packable);
     vertexOfPoint_.resize(static_cast<size_t>(n_) * d1);
     cv::parallel_for_(
         cv::Range(0, stripes),
         [&](const cv::Range& range)
         {
-            std::vector<int> key(static_cast<size_t>(d));
             for (int st = range.start; st < range.end; st++)
-            {
-                KeyTable& table = tables[static_cast<size_t>(st)];
-                const int begin = static_cast<int>(static_cast<int64_t>(n_) * st / stripes);
-                const int end = static_cast<int>(static_cast<int64_t>(n_) * (st + 1) / stripes);
-                for (int p = begin; p < end; p++)
-                {
-                    const size_t at = static_cast<size_t>(p) * d1;
-                    const int* r0 = rem0.data() + at;
-                    const int* rk = rank.data() + at;
-                    int* v = vertexOfPoint_.data() + at;
-                    // Neighbouring pixels often share a simplex: reuse the previous point's.
-                    if (p > begin && sameInts(r0, r0 - d1, d1) && sameInts(rk, rk - d1, d1))
-                    {
-                        std::copy(v - d1, v, v);
-                        continue;
-                    }
-                    // Vertex r: the remainder-0 corner plus the canonical simplex's vertex r.
-                    for (int r = 0; r < d1; r++)
-                    {
-                        for (int j = 0; j < d; j++)
-                            key[static_cast<size_t>(j)] = r0[j] + (rk[j] > d - r ? r - d1 : r);
-                        v[r] = table.insert(key.data());
-                    }
-                }
-            }
+                hashStripe(st, stripes, n_, d_, rem0_, rank_, tables[static_cast<size_t>(st)],
+                           vertexOfPoint_);
         },
         stripes);
-    KeyTable& table = tables[0];
-    for (int st = 1; st < stripes; st++)
-    {
-        const KeyTable& local = tables[static_cast<size_t>(st)];
-        std::vector<int> global(static_cast<size_t>(local.size()));
-        for (int id = 0; id < local.size(); id++)
-        {
-            global[static_cast<size_t>(id)] =
-                packable ? table.insertPacked(local.packedKey(id)) : table.insert(local.key(id));
-        }
-        const size_t begin = static_cast<size_t>(static_cast<int64_t>(n_) * st / stripes) * d1;
-        const size_t end = static_cast<size_t>(static_cast<int64_t>(n_) * (st + 1) / stripes) * d1;
-        for (size_t slot = begin; slot < end; slot++)
-            vertexOfPoint_[slot] = global[static_cast<size_t>(vertexOfPoint_[slot])];
-    }
-    const int m = table.size();
-    vertexCount_ = m;
-
-    // Neighbours along each lattice axis j: +-(1, ..., 1, -d, 1, ..., 1) (-d at j).
-    neighbours_.assign(static_cast<size_t>(m) * d1 * 2, -1);
-    std::vector<int> nb(static_cast<size_t>(d));
-    std::vector<uint64_t> step(static_cast<size_t>(d1) * 2);
-    if (packable)
-    {
-        for (int j = 0; j < d1; j++)
-        {
-            for (int sgn = 0; sgn < 2; sgn++)
-            {
-                for (int i = 0; i < d; i++)
-                    nb[static_cast<size_t>(i)] = (sgn == 0 ? -1 : 1) * (i == j ? -d : 1);
-                step[static_cast<size_t>(j) * 2 + sgn] = table.packedOffset(nb.data());
-            }
-        }
-    }
-    const KeyTable& lookupTable = table;
-    cv::parallel_for_(
-        cv::Range(0, m),
-        [&](const cv::Range& range)
-        {
-            std::vector<int> nbKey(static_cast<size_t>(d));
-            for (int v = range.start; v < range.end; v++)
-            {
-                for (int j = 0; j < d1; j++)
-                {
-                    for (int sgn = 0; sgn < 2; sgn++)
-                    {
-                        int& out = neighbours_[(static_cast<size_t>(v) * d1 + j) * 2 + sgn];
-                        if (packable)
-                        {
-                            out = lookupTable.lookupPacked(lookupTable.packedKey(v) +
-                                                           step[static_cast<size_t>(j) * 2 + sgn]);
-                            continue;
-                        }
-                        const int* k = lookupTable.key(v);
-                        for (int i = 0; i < d; i++)
-                            nbKey[static_cast<size_t>(i)] =
-                                k[i] + (sgn == 0 ? -1 : 1) * (i == j ? -d : 1);
-                        out = lookupTable.lookup(nbKey.data());
-                    }
-                }
-            }
-        },
-        stripes);
+    mergeStripes(tables, packable, n_, d1, vertexOfPoint_);
+    vertexCount_ = tables[0].size();
+    neighbours_ = findNeighbours(tables[0], d_, packable, stripes);
 }
 
 namespace
