@@ -40,6 +40,14 @@ public:
                    size_t maxFrames = 0);
 
 private:
+    /// Frames 0..n-1 into the rawlog and the images folder (temporary paths); returns n.
+    size_t writeFrames(TumSource& source, double depthFactor, size_t n,
+                       const std::string& rawlogPath, const std::string& imagesDir) const;
+    /// The ground truth and the references beside it copied as `<stem>_<name>` into `folder`;
+    /// returns the ground truth's copy (empty without one).
+    static std::string copyReferences(const std::string& groundTruth, const std::string& folder,
+                                      const std::string& stem);
+
     std::string sensorLabel_;
 };
 }  // namespace smap::io
