@@ -3,6 +3,7 @@
 #include <mrpt/core/format.h>
 
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <sstream>
 
@@ -61,6 +62,140 @@ std::string SynthApp::usage()
 
 namespace
 {
+/// The colour camera's poses of a TUM folder's frames, matched by timestamp.
+struct PosedFrames
+{
+    std::string posesPath;
+    core::Trajectory gt;
+    std::vector<double> frameTimes;             ///< per entry of the folder
+    std::vector<core::AssociatedPair> matches;  ///< (entry, pose) in order
+};
+
+PosedFrames matchPoses(const CommandLine& cl, const io::TumSource& source,
+                       const std::string& folder, double maxDt)
+{
+    // The poses must be the colour camera's: the frames come on its grid (depth registered to
+    // it when the configuration has a [depth_camera]), and a person standing still must stay
+    // still against the background seen in colour.
+    PosedFrames p;
+    p.posesPath = cl.value("ground-truth").value_or(source.groundTruthPath());
+    if (p.posesPath.empty())
+        throw core::InputError(mrpt::format(
+            "'%s' has no groundtruth.txt: compositing needs the camera poses (--ground-truth F)",
+            folder.c_str()));
+    p.gt = io::readTumTrajectory(p.posesPath);
+    std::vector<double> tGt;
+    for (const auto& e : source.entries())
+        p.frameTimes.push_back(e.rgbTimestamp);
+    for (const auto& pose : p.gt)
+        tGt.push_back(pose.timestamp);
+    p.matches = core::associateTimestamps(p.frameTimes, tGt, maxDt);
+    if (p.matches.empty())
+        throw core::InputError(mrpt::format("no frame of '%s' has a ground-truth pose within %g s",
+                                            folder.c_str(), maxDt));
+    return p;
+}
+
+/// Up to 8 frames with poses spread over the part used, to see the free space.
+std::vector<sim::PeopleCompositor::Probe> collectProbes(io::TumSource& source,
+                                                        const PosedFrames& posed, size_t frames)
+{
+    std::vector<sim::PeopleCompositor::Probe> probes;
+    const size_t step = std::max<size_t>(1, frames / 8);
+    size_t next = 0, entry = 0;
+    while (auto r = source.read())
+    {
+        const auto* f = std::get_if<core::RgbdFrame>(&*r);
+        if (next < frames && entry == posed.matches[next].first)
+        {
+            if (f != nullptr)  // an unreadable frame is no probe
+                probes.push_back({*f, posed.gt[posed.matches[next].second].T_world_cam});
+            next += step;
+        }
+        if (next >= frames)
+            break;
+        entry++;
+    }
+    return probes;
+}
+
+/// Composite frame i: the real frame of match i with the people at its pose and time.
+class CompositeProducer
+{
+public:
+    CompositeProducer(const std::string& folder, const io::FrameSourceParameters& params,
+                      const PosedFrames& posed, const sim::PeopleCompositor& compositor)
+        : folder_(folder),
+          source_(folder, params),
+          posed_(posed),
+          compositor_(compositor),
+          t0_(posed.frameTimes[posed.matches.front().first])
+    {
+        source_.setMinLoggingLevel(mrpt::system::LVL_WARN);
+    }
+
+    sim::SyntheticFrame operator()(size_t i)
+    {
+        const auto& m = posed_.matches[i];
+        std::optional<io::FrameRead> r;
+        while (cursor_ <= m.first)
+        {
+            r = source_.read();
+            cursor_++;
+        }
+        const auto* f = r ? std::get_if<core::RgbdFrame>(&*r) : nullptr;
+        if (f == nullptr)  // every composite frame needs its real frame
+            throw core::InputError(mrpt::format(
+                "--composite-onto: frame %zu of '%s' cannot be read (see the warning above)",
+                m.first, folder_.c_str()));
+        const auto& T = posed_.gt[m.second].T_world_cam;
+        const sim::CompositeFrame c = compositor_.composite(*f, T, f->timestamp - t0_);
+        sim::SyntheticFrame out;
+        out.index = i;
+        out.timestamp = f->timestamp;
+        out.T_world_cam = T;
+        out.rendered = {c.colour, c.depth, c.labels, c.instances, c.dynamic};
+        out.depthNoiseFree = c.depth;
+        out.objectPoses = c.objectPoses;
+        return out;
+    }
+
+private:
+    std::string folder_;
+    io::TumSource source_;
+    const PosedFrames& posed_;
+    const sim::PeopleCompositor& compositor_;
+    double t0_;
+    size_t cursor_ = 0;  ///< next entry index source_ will deliver
+};
+
+core::JsonValue compositeMeta(const std::string& folder, const std::string& posesPath,
+                              const std::string& peopleDir, long count, uint32_t seed,
+                              size_t frames, const sim::PeopleCompositor& compositor)
+{
+    auto meta = core::JsonValue::object();
+    meta.set("generator", "smap-synth").set("mode", "composite").set("source", folder);
+    meta.set("poses", posesPath);
+    meta.set("people_cutouts", peopleDir).set("people", static_cast<int64_t>(count));
+    meta.set("seed", static_cast<int64_t>(seed)).set("frames", static_cast<uint64_t>(frames));
+    meta.set("depth_factor", sim::SyntheticSequenceWriter::kDepthFactor);
+    meta.set("floor_height_m", compositor.floorHeight());
+    const auto& fsc = compositor.freeSpaceCheck();
+    auto freeSpace = core::JsonValue::object();
+    freeSpace.set("body_samples", static_cast<uint64_t>(fsc.samples));
+    freeSpace.set("inside_observed_surface", static_cast<uint64_t>(fsc.inside));
+    freeSpace.set("never_seen_free", static_cast<uint64_t>(fsc.unseen));
+    meta.set("free_space_check", freeSpace);
+    auto up = core::JsonValue::array();
+    for (int k = 0; k < 3; k++)
+        up.push(core::JsonValue::number(compositor.up()[k]));
+    meta.set("world_up", up);
+    meta.set("labels",
+             "15 person where composited, 255 unknown elsewhere; depth of people is exact, the "
+             "rest is the real sensor's");
+    return meta;
+}
+
 /// Composites people into a real TUM folder with ground truth; returns its camera.
 core::PinholeCamera compositeOnto(const CommandLine& cl, size_t frames, uint32_t seed,
                                   const std::string& outDir, mrpt::system::COutputLogger& log)
@@ -78,108 +213,45 @@ core::PinholeCamera compositeOnto(const CommandLine& cl, size_t frames, uint32_t
 
     io::TumSource source(folder, params);
     source.setMinLoggingLevel(log.getMinLoggingLevel());
-    // The poses must be the colour camera's: the frames come on its grid (depth registered to
-    // it when the configuration has a [depth_camera]), and a person standing still must stay
-    // still against the background seen in colour.
-    const std::string posesPath = cl.value("ground-truth").value_or(source.groundTruthPath());
-    if (posesPath.empty())
-        throw core::InputError(mrpt::format(
-            "'%s' has no groundtruth.txt: compositing needs the camera poses (--ground-truth F)",
-            folder.c_str()));
-    const core::Trajectory gt = io::readTumTrajectory(posesPath);
-    std::vector<double> tFrames, tGt;
-    for (const auto& e : source.entries())
-        tFrames.push_back(e.rgbTimestamp);
-    for (const auto& p : gt)
-        tGt.push_back(p.timestamp);
-    const auto matches = core::associateTimestamps(tFrames, tGt, params.tum_max_dt);
-    if (matches.empty())
-        throw core::InputError(mrpt::format("no frame of '%s' has a ground-truth pose within %g s",
-                                            folder.c_str(), params.tum_max_dt));
-    frames = std::min(frames, matches.size());
-
-    // Probes: up to 8 frames with poses spread over the part used, to see the free space.
-    std::vector<sim::PeopleCompositor::Probe> probes;
-    {
-        const size_t step = std::max<size_t>(1, frames / 8);
-        size_t next = 0, entry = 0;
-        while (auto r = source.read())
-        {
-            const auto* f = std::get_if<core::RgbdFrame>(&*r);
-            if (next < frames && entry == matches[next].first)
-            {
-                if (f != nullptr)  // an unreadable frame is no probe
-                    probes.push_back({*f, gt[matches[next].second].T_world_cam});
-                next += step;
-            }
-            if (next >= frames)
-                break;
-            entry++;
-        }
-    }
+    const PosedFrames posed = matchPoses(cl, source, folder, params.tum_max_dt);
+    frames = std::min(frames, posed.matches.size());
+    const auto probes = collectProbes(source, posed, frames);
     std::vector<cv::Mat> sprites;
     for (auto& s : sim::loadPersonSprites(*peopleDir))
         sprites.push_back(std::move(s.image));
-    const sim::PeopleCompositor compositor(sprites, gt, probes, static_cast<size_t>(count), seed);
+    const sim::PeopleCompositor compositor(sprites, posed.gt, probes, static_cast<size_t>(count),
+                                           seed);
     if (compositor.freeSpaceViolations() > 0)
         log.logFmt(mrpt::system::LVL_WARN,
                    "compositing: of %zu body samples of the people, %zu lie within 20 cm of an "
                    "observed surface and %zu are seen free by no frame",
                    compositor.freeSpaceCheck().samples, compositor.freeSpaceCheck().inside,
                    compositor.freeSpaceCheck().unseen);
-    io::TumSource frameSource(folder, params);
-    frameSource.setMinLoggingLevel(mrpt::system::LVL_WARN);
-    size_t cursor = 0;  // next entry index frameSource will deliver
-    const double t0 = tFrames[matches.front().first];
-    auto produce = [&](size_t i)
-    {
-        const auto& m = matches[i];
-        std::optional<io::FrameRead> r;
-        while (cursor <= m.first)
-        {
-            r = frameSource.read();
-            cursor++;
-        }
-        const auto* f = r ? std::get_if<core::RgbdFrame>(&*r) : nullptr;
-        if (f == nullptr)  // every composite frame needs its real frame
-            throw core::InputError(mrpt::format(
-                "--composite-onto: frame %zu of '%s' cannot be read (see the warning above)",
-                m.first, folder.c_str()));
-        const auto& T = gt[m.second].T_world_cam;
-        const sim::CompositeFrame c = compositor.composite(*f, T, f->timestamp - t0);
-        sim::SyntheticFrame out;
-        out.index = i;
-        out.timestamp = f->timestamp;
-        out.T_world_cam = T;
-        out.rendered = {c.colour, c.depth, c.labels, c.instances, c.dynamic};
-        out.depthNoiseFree = c.depth;
-        out.objectPoses = c.objectPoses;
-        return out;
-    };
-    auto meta = core::JsonValue::object();
-    meta.set("generator", "smap-synth").set("mode", "composite").set("source", folder);
-    meta.set("poses", posesPath);
-    meta.set("people_cutouts", *peopleDir).set("people", static_cast<int64_t>(count));
-    meta.set("seed", static_cast<int64_t>(seed)).set("frames", static_cast<uint64_t>(frames));
-    meta.set("depth_factor", sim::SyntheticSequenceWriter::kDepthFactor);
-    meta.set("floor_height_m", compositor.floorHeight());
-    const auto& fsc = compositor.freeSpaceCheck();
-    auto freeSpace = core::JsonValue::object();
-    freeSpace.set("body_samples", static_cast<uint64_t>(fsc.samples));
-    freeSpace.set("inside_observed_surface", static_cast<uint64_t>(fsc.inside));
-    freeSpace.set("never_seen_free", static_cast<uint64_t>(fsc.unseen));
-    meta.set("free_space_check", freeSpace);
-    auto up = core::JsonValue::array();
-    for (int k = 0; k < 3; k++)
-        up.push(core::JsonValue::number(compositor.up()[k]));
-    meta.set("world_up", up);
-    meta.set("labels",
-             "15 person where composited, 255 unknown elsewhere; depth of people is exact, the "
-             "rest is the real sensor's");
+    CompositeProducer produce(folder, params, posed, compositor);
     sim::SyntheticSequenceWriter writer;
     writer.setMinLoggingLevel(log.getMinLoggingLevel());
-    writer.write(produce, frames, meta, source.camera(), outDir);
+    writer.write(
+        std::ref(produce), frames,
+        compositeMeta(folder, posed.posesPath, *peopleDir, count, seed, frames, compositor),
+        source.camera(), outDir);
     return source.camera();
+}
+
+/// --size WxH: the default camera's field of view at that size.
+core::PinholeCamera cameraOfSize(const std::string& size, core::PinholeCamera camera)
+{
+    int w = 0, h = 0;
+    char x = 0;
+    std::istringstream ss(size);
+    if (!(ss >> w >> x >> h) || x != 'x' || w < 16 || h < 16 || w > 4096 || h > 4096)
+        throw core::InputError(
+            mrpt::format("--size '%s': expected WxH, e.g. 320x240", size.c_str()));
+    camera.fx = camera.fy = 525.0 * w / 640.0;
+    camera.cx = (w - 1) / 2.0;
+    camera.cy = (h - 1) / 2.0;
+    camera.width = w;
+    camera.height = h;
+    return camera;
 }
 }  // namespace
 
@@ -242,20 +314,7 @@ int SynthApp::run(const std::vector<std::string>& args, std::ostream& out)
                 "--composite-onto only");
         sim::GeneratorOptions options;
         if (const auto size = cl.value("size"))
-        {
-            int w = 0, h = 0;
-            char x = 0;
-            std::istringstream ss(*size);
-            if (!(ss >> w >> x >> h) || x != 'x' || w < 16 || h < 16 || w > 4096 || h > 4096)
-                throw core::InputError(
-                    mrpt::format("--size '%s': expected WxH, e.g. 320x240", size->c_str()));
-            // Same field of view as the 640x480 default.
-            options.camera.fx = options.camera.fy = 525.0 * w / 640.0;
-            options.camera.cx = (w - 1) / 2.0;
-            options.camera.cy = (h - 1) / 2.0;
-            options.camera.width = w;
-            options.camera.height = h;
-        }
+            options.camera = cameraOfSize(*size, options.camera);
         options.preset = *preset;
         options.seed = static_cast<uint32_t>(seed);
         options.noiseFreeDepth = cl.has("noise-free");
@@ -269,19 +328,8 @@ int SynthApp::run(const std::vector<std::string>& args, std::ostream& out)
         camera = options.camera;
         out << "smap-synth: " << frames << " frames of " << *preset << " in " << *outDir << "\n";
     }
-
     if (!cl.has("no-rawlog"))
-    {
-        io::FrameSourceParameters p;
-        p.camera = camera;
-        p.tum_depth_factor = sim::SyntheticSequenceWriter::kDepthFactor;
-        io::TumSource folder(*outDir, p);
-        io::TumToRawlogConverter conv("RGBD_SYNTH");
-        conv.setMinLoggingLevel(mrpt::system::LVL_WARN);
-        const auto r = conv.convert(folder, p.tum_depth_factor,
-                                    (fs::path(*outDir) / "sequence.rawlog").string());
-        out << "rawlog: " << r.rawlogPath << "\n";
-    }
+        out << "rawlog: " << writeRawlog(*outDir, camera) << "\n";
     if (rows > 0)
     {
         const std::string sheet = (fs::path(*outDir) / "contact_sheet.png").string();
@@ -289,5 +337,17 @@ int SynthApp::run(const std::vector<std::string>& args, std::ostream& out)
         out << "contact sheet: " << sheet << "\n";
     }
     return kExitOk;
+}
+
+std::string SynthApp::writeRawlog(const std::string& outDir, const core::PinholeCamera& camera)
+{
+    io::FrameSourceParameters p;
+    p.camera = camera;
+    p.tum_depth_factor = sim::SyntheticSequenceWriter::kDepthFactor;
+    io::TumSource folder(outDir, p);
+    io::TumToRawlogConverter conv("RGBD_SYNTH");
+    conv.setMinLoggingLevel(mrpt::system::LVL_WARN);
+    return conv.convert(folder, p.tum_depth_factor, (fs::path(outDir) / "sequence.rawlog").string())
+        .rawlogPath;
 }
 }  // namespace smap::apps

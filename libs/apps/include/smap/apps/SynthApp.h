@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "smap/core/PinholeCamera.h"
+
 namespace smap::apps
 {
 class SynthApp : public mrpt::system::COutputLogger
@@ -17,5 +19,9 @@ public:
     /// Arguments after the program name; returns an ExitCode, throws core::InputError.
     int run(const std::vector<std::string>& args, std::ostream& out);
     static std::string usage();
+
+private:
+    /// OUT/sequence.rawlog from the folder just written; returns its path.
+    static std::string writeRawlog(const std::string& outDir, const core::PinholeCamera& camera);
 };
 }  // namespace smap::apps
