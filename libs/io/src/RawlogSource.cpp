@@ -107,102 +107,135 @@ struct RawlogSource::Impl
     /// At the end of the data: sets `damage` when the file is gzip and its data is shorter than
     /// its trailer says (a compressed recording cut short, even between two entries).
     void noteMissingGzipTrailer(size_t entriesRead);
+    /// The next entry; null at the end of the data (`damage` says when it was not the end).
+    std::optional<mrpt::serialization::CSerializable::Ptr> readEntry();
+    /// Queues an RGB-D observation when it is of the sensor read and has both images.
+    void queueIfUsable(const CObservation3DRangeScan::Ptr& scan, COutputLogger& log);
     core::RgbdFrame convert(const CObservation3DRangeScan& obs, COutputLogger& log);
+    void readColour(const CObservation3DRangeScan& obs, core::RgbdFrame& f) const;
+    cv::Mat readRawRange(const CObservation3DRangeScan& obs) const;
+    /// Depth and colour cameras and T_colour_depth: the recording's, or the configuration's.
+    struct Cameras
+    {
+        core::PinholeCamera depth, colour;
+        Eigen::Isometry3d T_colour_depth;
+    };
+    Cameras camerasOf(const CObservation3DRangeScan& obs, const cv::Mat& raw, const cv::Mat& colour,
+                      COutputLogger& log);
+    /// A camera whose size differs from its images: an error when the configuration gave it,
+    /// else the image size (warned once).
+    void fitToImage(core::PinholeCamera& cam, const cv::Mat& image, const char* kind,
+                    bool configured, bool& warned, COutputLogger& log) const;
     const std::vector<float>& rangeToDepthFactors(const core::PinholeCamera& depthCam);
 };
+
+namespace
+{
+/// The observations of a rawlog entry (a sensory frame's, or the entry itself).
+std::vector<mrpt::obs::CObservation::Ptr> observationsOf(
+    const mrpt::serialization::CSerializable::Ptr& obj, std::map<std::string, size_t>& classCounts)
+{
+    std::vector<mrpt::obs::CObservation::Ptr> observations;
+    if (auto sf = std::dynamic_pointer_cast<mrpt::obs::CSensoryFrame>(obj))
+    {
+        classCounts[obj->GetRuntimeClass()->className]++;
+        for (const auto& o : *sf)
+            observations.push_back(o);
+    }
+    else if (auto o = std::dynamic_pointer_cast<mrpt::obs::CObservation>(obj))
+    {
+        observations.push_back(o);
+    }
+    else
+    {
+        classCounts[obj->GetRuntimeClass()->className]++;
+    }
+    return observations;
+}
+}  // namespace
 
 bool RawlogSource::Impl::fill(COutputLogger& log)
 {
     while (pending.empty())
     {
-        mrpt::serialization::CSerializable::Ptr obj;
-        const uint64_t entryStart = stream.getPosition();
-        try
-        {
-            obj = archive->ReadObject();
-        }
-        catch (const std::exception& e)
-        {
-            // The end of the file between two entries is the end of the recording (MRPT 2.5
-            // reports it as CExceptionEOF or as a plain exception); an end inside an entry, or
-            // anything else, is damage.
-            const bool atEnd =
-                dynamic_cast<const mrpt::serialization::CExceptionEOF*>(&e) != nullptr ||
-                std::string(e.what()).find("Cannot read object due to EOF") != std::string::npos;
-            if (atEnd && stream.checkEOF() && stream.getPosition() == entryStart)
-            {
-                noteMissingGzipTrailer(entries);
-                return false;
-            }
-            if (entries == 0)
-                throw core::InputError(mrpt::format(
-                    "'%s' is not an MRPT rawlog: its first entry cannot be read (%s); a TUM RGB-D "
-                    "folder is given as the folder itself",
-                    path.c_str(), innermostMrptMessage(e.what()).c_str()));
-            // A recording cut short (or damaged) mid-entry: what came before it still counts.
-            damage = mrpt::format(
-                "rawlog '%s' is damaged or cut short at entry %zu (about byte %llu of %llu): %s",
-                path.c_str(), entries + 1, static_cast<unsigned long long>(stream.getPosition()),
-                static_cast<unsigned long long>(fileSize), innermostMrptMessage(e.what()).c_str());
-            return false;
-        }
-        entries++;
+        const auto obj = readEntry();
         if (!obj)
+            return false;
+        if (!*obj)
             continue;
-        std::vector<mrpt::obs::CObservation::Ptr> observations;
-        if (auto sf = std::dynamic_pointer_cast<mrpt::obs::CSensoryFrame>(obj))
-        {
-            classCounts[obj->GetRuntimeClass()->className]++;
-            for (const auto& o : *sf)
-                observations.push_back(o);
-        }
-        else if (auto o = std::dynamic_pointer_cast<mrpt::obs::CObservation>(obj))
-        {
-            observations.push_back(o);
-        }
-        else
-        {
-            classCounts[obj->GetRuntimeClass()->className]++;
-        }
-        for (const auto& o : observations)
+        for (const auto& o : observationsOf(*obj, classCounts))
         {
             if (!o)
                 continue;
             classCounts[o->GetRuntimeClass()->className]++;
-            auto scan = std::dynamic_pointer_cast<CObservation3DRangeScan>(o);
-            if (!scan)
-                continue;
-            if (label && scan->sensorLabel != *label)
-            {
-                if (++rgbdOtherLabel == 1 && params.rawlog_sensor_label.empty())
-                {
-                    log.logFmt(mrpt::system::LVL_WARN,
-                               "rawlog '%s' entry %zu: RGB-D observations from another sensor "
-                               "('%s'); reading only '%s', the first one seen (choose with "
-                               "[rawlog] sensor_label)",
-                               path.c_str(), entries, scan->sensorLabel.c_str(), label->c_str());
-                }
-                continue;
-            }
-            if (!scan->hasRangeImage || !scan->hasIntensityImage)
-            {
-                rgbdWithoutImages++;
-                if (rgbdWithoutImages == 1)
-                {
-                    log.logFmt(
-                        mrpt::system::LVL_WARN,
-                        "rawlog '%s' entry %zu: CObservation3DRangeScan '%s' lacks a range or "
-                        "intensity image; skipped (reported once)",
-                        path.c_str(), entries, scan->sensorLabel.c_str());
-                }
-                continue;
-            }
-            if (!label)
-                label = scan->sensorLabel;
-            pending.push_back(scan);
+            if (auto scan = std::dynamic_pointer_cast<CObservation3DRangeScan>(o))
+                queueIfUsable(scan, log);
         }
     }
     return true;
+}
+
+std::optional<mrpt::serialization::CSerializable::Ptr> RawlogSource::Impl::readEntry()
+{
+    mrpt::serialization::CSerializable::Ptr obj;
+    const uint64_t entryStart = stream.getPosition();
+    try
+    {
+        obj = archive->ReadObject();
+    }
+    catch (const std::exception& e)
+    {
+        // The end of the file between two entries is the end of the recording (MRPT 2.5
+        // reports it as CExceptionEOF or as a plain exception); an end inside an entry, or
+        // anything else, is damage.
+        const bool atEnd =
+            dynamic_cast<const mrpt::serialization::CExceptionEOF*>(&e) != nullptr ||
+            std::string(e.what()).find("Cannot read object due to EOF") != std::string::npos;
+        if (atEnd && stream.checkEOF() && stream.getPosition() == entryStart)
+        {
+            noteMissingGzipTrailer(entries);
+            return std::nullopt;
+        }
+        if (entries == 0)
+            throw core::InputError(mrpt::format(
+                "'%s' is not an MRPT rawlog: its first entry cannot be read (%s); a TUM RGB-D "
+                "folder is given as the folder itself",
+                path.c_str(), innermostMrptMessage(e.what()).c_str()));
+        // A recording cut short (or damaged) mid-entry: what came before it still counts.
+        damage = mrpt::format(
+            "rawlog '%s' is damaged or cut short at entry %zu (about byte %llu of %llu): %s",
+            path.c_str(), entries + 1, static_cast<unsigned long long>(stream.getPosition()),
+            static_cast<unsigned long long>(fileSize), innermostMrptMessage(e.what()).c_str());
+        return std::nullopt;
+    }
+    entries++;
+    return obj;
+}
+
+void RawlogSource::Impl::queueIfUsable(const CObservation3DRangeScan::Ptr& scan, COutputLogger& log)
+{
+    if (label && scan->sensorLabel != *label)
+    {
+        if (++rgbdOtherLabel == 1 && params.rawlog_sensor_label.empty())
+            log.logFmt(mrpt::system::LVL_WARN,
+                       "rawlog '%s' entry %zu: RGB-D observations from another sensor ('%s'); "
+                       "reading only '%s', the first one seen (choose with [rawlog] "
+                       "sensor_label)",
+                       path.c_str(), entries, scan->sensorLabel.c_str(), label->c_str());
+        return;
+    }
+    if (!scan->hasRangeImage || !scan->hasIntensityImage)
+    {
+        if (++rgbdWithoutImages == 1)
+            log.logFmt(mrpt::system::LVL_WARN,
+                       "rawlog '%s' entry %zu: CObservation3DRangeScan '%s' lacks a range or "
+                       "intensity image; skipped (reported once)",
+                       path.c_str(), entries, scan->sensorLabel.c_str());
+        return;
+    }
+    if (!label)
+        label = scan->sensorLabel;
+    pending.push_back(scan);
 }
 
 void RawlogSource::Impl::noteMissingGzipTrailer(size_t entriesRead)
@@ -252,8 +285,27 @@ core::RgbdFrame RawlogSource::Impl::convert(const CObservation3DRangeScan& obs, 
 {
     core::RgbdFrame f;
     f.timestamp = mrpt::Clock::toDouble(obs.timestamp);
+    readColour(obs, f);
+    // Range image, as raw uint16 on the depth camera's grid.
+    const cv::Mat raw = readRawRange(obs);
+    const Cameras cams = camerasOf(obs, raw, f.colour, log);
+    cv::Mat depth;
+    rawDepthToMetres(raw, obs.rangeUnits, depth);
+    if (!obs.range_is_depth)
+    {
+        // Ranges are distances along each pixel's ray: z = range / |(x/z, y/z, 1)|.
+        const auto& k = rangeToDepthFactors(cams.depth);
+        auto* d = depth.ptr<float>();
+        for (size_t i = 0; i < depth.total(); i++)
+            d[i] *= k[i];
+    }
+    f.depth = toColour.onColourGrid(depth, cams.depth, cams.colour, cams.T_colour_depth);
+    f.camera = cams.colour;
+    return f;
+}
 
-    // Colour.
+void RawlogSource::Impl::readColour(const CObservation3DRangeScan& obs, core::RgbdFrame& f) const
+{
     if (obs.intensityImage.isExternallyStored())
     {
         const std::string file = resolve(obs.intensityImage.getExternalStorageFile());
@@ -263,106 +315,84 @@ core::RgbdFrame RawlogSource::Impl::convert(const CObservation3DRangeScan& obs, 
                                                 colour.problem.c_str()));
         f.colour = colour.image;
         f.name = fs::path(file).stem().string();
+        return;
     }
-    else
-    {
-        const cv::Mat& img = obs.intensityImage.asCvMatRef();
-        if (img.channels() == 1)
-            cv::cvtColor(img, f.colour, cv::COLOR_GRAY2BGR);
-        else if (img.channels() == 3)
-            f.colour = img.clone();
-        else if (img.channels() == 4)
-            cv::cvtColor(img, f.colour, cv::COLOR_BGRA2BGR);
-        if (f.colour.empty() || f.colour.depth() != CV_8U)
-            throw core::InputError(mrpt::format(
-                "rawlog '%s' entry %zu: unsupported intensity image", path.c_str(), entries));
-    }
+    const cv::Mat& img = obs.intensityImage.asCvMatRef();
+    if (img.channels() == 1)
+        cv::cvtColor(img, f.colour, cv::COLOR_GRAY2BGR);
+    else if (img.channels() == 3)
+        f.colour = img.clone();
+    else if (img.channels() == 4)
+        cv::cvtColor(img, f.colour, cv::COLOR_BGRA2BGR);
+    if (f.colour.empty() || f.colour.depth() != CV_8U)
+        throw core::InputError(mrpt::format("rawlog '%s' entry %zu: unsupported intensity image",
+                                            path.c_str(), entries));
+}
 
-    // Range image, as raw uint16 on the depth camera's grid.
-    cv::Mat raw;
+cv::Mat RawlogSource::Impl::readRawRange(const CObservation3DRangeScan& obs) const
+{
     if (obs.rangeImage_isExternallyStored())
+        return readExternalRangeImage(resolve(obs.rangeImage_getExternalStorageFile("")));
+    cv::Mat raw(obs.rangeImage.rows(), obs.rangeImage.cols(), CV_16UC1);
+    for (int r = 0; r < raw.rows; r++)
     {
-        raw = readExternalRangeImage(resolve(obs.rangeImage_getExternalStorageFile("")));
+        auto* dst = raw.ptr<uint16_t>(r);
+        for (int c = 0; c < raw.cols; c++)
+            dst[c] = obs.rangeImage(r, c);
     }
-    else
-    {
-        raw.create(obs.rangeImage.rows(), obs.rangeImage.cols(), CV_16UC1);
-        for (int r = 0; r < raw.rows; r++)
-        {
-            auto* dst = raw.ptr<uint16_t>(r);
-            for (int c = 0; c < raw.cols; c++)
-                dst[c] = obs.rangeImage(r, c);
-        }
-    }
+    return raw;
+}
 
-    core::PinholeCamera depthCam = core::PinholeCamera::fromMrpt(obs.cameraParams);
-    core::PinholeCamera colourCam = core::PinholeCamera::fromMrpt(obs.cameraParamsIntensity);
-    Eigen::Isometry3d T_colour_depth = colourFromDepth(obs.relativePoseIntensityWRTDepth);
+RawlogSource::Impl::Cameras RawlogSource::Impl::camerasOf(const CObservation3DRangeScan& obs,
+                                                          const cv::Mat& raw, const cv::Mat& colour,
+                                                          COutputLogger& log)
+{
+    Cameras c{core::PinholeCamera::fromMrpt(obs.cameraParams),
+              core::PinholeCamera::fromMrpt(obs.cameraParamsIntensity),
+              colourFromDepth(obs.relativePoseIntensityWRTDepth)};
     if (params.camera)
     {
-        colourCam = *params.camera;
-        if (isIdentity(T_colour_depth))
-            depthCam = colourCam;
+        c.colour = *params.camera;
+        if (isIdentity(c.T_colour_depth))
+            c.depth = c.colour;
     }
     if (params.depth_camera)  // the configuration knows the sensor better than the recording
     {
-        depthCam = *params.depth_camera;
-        T_colour_depth = params.T_colour_depth;
+        c.depth = *params.depth_camera;
+        c.T_colour_depth = params.T_colour_depth;
     }
-    if (depthCam.width != raw.cols || depthCam.height != raw.rows)
-    {
-        if (params.depth_camera)
-            throw core::InputError(
-                mrpt::format("[depth_camera] says %dx%d but rawlog '%s' has %dx%d range images",
-                             depthCam.width, depthCam.height, path.c_str(), raw.cols, raw.rows));
-        if (!warnedDepthSize)
-        {
-            log.logFmt(
-                mrpt::system::LVL_WARN,
-                "rawlog '%s': depth camera says %dx%d, range image is %dx%d; using the image size",
-                path.c_str(), depthCam.width, depthCam.height, raw.cols, raw.rows);
-            warnedDepthSize = true;
-        }
-        depthCam.width = raw.cols;
-        depthCam.height = raw.rows;
-    }
-    if (colourCam.width != f.colour.cols || colourCam.height != f.colour.rows)
-    {
-        if (params.camera)
-            throw core::InputError(mrpt::format(
-                "[camera] says %dx%d but rawlog '%s' has %dx%d colour images", colourCam.width,
-                colourCam.height, path.c_str(), f.colour.cols, f.colour.rows));
-        if (!warnedColourSize)
-        {
-            log.logFmt(
-                mrpt::system::LVL_WARN,
-                "rawlog '%s': colour camera says %dx%d, image is %dx%d; using the image size",
-                path.c_str(), colourCam.width, colourCam.height, f.colour.cols, f.colour.rows);
-            warnedColourSize = true;
-        }
-        colourCam.width = f.colour.cols;
-        colourCam.height = f.colour.rows;
-    }
-    if (!depthCam.isValid() || !colourCam.isValid())
+    fitToImage(c.depth, raw, "depth", params.depth_camera.has_value(), warnedDepthSize, log);
+    fitToImage(c.colour, colour, "colour", params.camera.has_value(), warnedColourSize, log);
+    if (!c.depth.isValid() || !c.colour.isValid())
         throw core::InputError(mrpt::format(
             "rawlog '%s' entry %zu: invalid intrinsics (depth %s, colour %s); give a [camera] "
             "section",
-            path.c_str(), entries, depthCam.toString().c_str(), colourCam.toString().c_str()));
+            path.c_str(), entries, c.depth.toString().c_str(), c.colour.toString().c_str()));
+    return c;
+}
 
-    cv::Mat depth;
-    rawDepthToMetres(raw, obs.rangeUnits, depth);
-    if (!obs.range_is_depth)
+void RawlogSource::Impl::fitToImage(core::PinholeCamera& cam, const cv::Mat& image,
+                                    const char* kind, bool configured, bool& warned,
+                                    COutputLogger& log) const
+{
+    if (cam.width == image.cols && cam.height == image.rows)
+        return;
+    const bool depth = std::string(kind) == "depth";
+    if (configured)
+        throw core::InputError(mrpt::format("[%s] says %dx%d but rawlog '%s' has %dx%d %s images",
+                                            depth ? "depth_camera" : "camera", cam.width,
+                                            cam.height, path.c_str(), image.cols, image.rows,
+                                            depth ? "range" : "colour"));
+    if (!warned)
     {
-        // Ranges are distances along each pixel's ray: z = range / |(x/z, y/z, 1)|.
-        const auto& k = rangeToDepthFactors(depthCam);
-        auto* d = depth.ptr<float>();
-        for (size_t i = 0; i < depth.total(); i++)
-            d[i] *= k[i];
+        log.logFmt(mrpt::system::LVL_WARN,
+                   "rawlog '%s': %s camera says %dx%d, %s is %dx%d; using the image size",
+                   path.c_str(), kind, cam.width, cam.height, depth ? "range image" : "image",
+                   image.cols, image.rows);
+        warned = true;
     }
-
-    f.depth = toColour.onColourGrid(depth, depthCam, colourCam, T_colour_depth);
-    f.camera = colourCam;
-    return f;
+    cam.width = image.cols;
+    cam.height = image.rows;
 }
 
 RawlogSource::RawlogSource(const std::string& path, const FrameSourceParameters& params)
