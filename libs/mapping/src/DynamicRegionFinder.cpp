@@ -121,7 +121,29 @@ DynamicRegions DynamicRegionFinder::find(const cv::Mat& labels, const cv::Mat& d
     DynamicRegions r;
     r.dynamicMask = cv::Mat::zeros(labels.size(), CV_8UC1);
     r.objectIds = cv::Mat(labels.size(), CV_32SC1, cv::Scalar(-1));
+    findObjects(labels, r);
+    markDynamicObjects(points, r);
+    markAroundPoints(points, depth, r);
+    // Beyond the paper: M grows into depth-continuous neighbours.
+    if (params_.grow_pixels > 0)
+        r.pixelsGrown = growAlongDepth(r.dynamicMask, depth, params_.grow_pixels,
+                                       static_cast<float>(params_.depth_tolerance));
+    return r;
+}
 
+namespace
+{
+/// The pixel of a point, when inside the image.
+bool pixelOf(const DynamicPoint& p, const cv::Size& size, int& u, int& v)
+{
+    u = static_cast<int>(std::lround(p.u));
+    v = static_cast<int>(std::lround(p.v));
+    return u >= 0 && v >= 0 && u < size.width && v < size.height;
+}
+}  // namespace
+
+void DynamicRegionFinder::findObjects(const cv::Mat& labels, DynamicRegions& r) const
+{
     // Objects: connected regions of each class present (void and non-object classes aside).
     bool present[256] = {};
     for (int v = 0; v < labels.rows; v++)
@@ -145,63 +167,63 @@ DynamicRegions DynamicRegionFinder::find(const cv::Mat& labels, const cv::Mat& d
             const int* comp = components.ptr<int>(v);
             int* ids = r.objectIds.ptr<int>(v);
             for (int u = 0; u < labels.cols; u++)
-            {
                 if (comp[u] > 0)
                 {
                     ids[u] = first + comp[u] - 1;
                     r.objects[static_cast<size_t>(ids[u])].pixels++;
                 }
-            }
         }
     }
+}
 
+void DynamicRegionFinder::markDynamicObjects(const std::vector<DynamicPoint>& points,
+                                             DynamicRegions& r) const
+{
     // Step 1: count the dynamic points on every object; more than Num -> the whole object.
-    auto inside = [&](const DynamicPoint& p, int& u, int& v)
-    {
-        u = static_cast<int>(std::lround(p.u));
-        v = static_cast<int>(std::lround(p.v));
-        return u >= 0 && v >= 0 && u < labels.cols && v < labels.rows;
-    };
     for (const auto& p : points)
     {
         int u = 0, v = 0;
-        if (inside(p, u, v) && r.objectIds.at<int>(v, u) >= 0)
+        if (pixelOf(p, r.objectIds.size(), u, v) && r.objectIds.at<int>(v, u) >= 0)
             r.objects[static_cast<size_t>(r.objectIds.at<int>(v, u))].dynamicPoints++;
     }
     for (auto& o : r.objects)
         o.dynamic = o.dynamicPoints > params_.num_points;
-    for (int v = 0; v < labels.rows; v++)
+    for (int v = 0; v < r.objectIds.rows; v++)
     {
         const int* ids = r.objectIds.ptr<int>(v);
         auto* m = r.dynamicMask.ptr<uint8_t>(v);
-        for (int u = 0; u < labels.cols; u++)
-        {
+        for (int u = 0; u < r.objectIds.cols; u++)
             if (ids[u] >= 0 && r.objects[static_cast<size_t>(ids[u])].dynamic)
             {
                 m[u] = 255;
                 r.pixelsFromObjects++;
             }
-        }
     }
+}
 
+void DynamicRegionFinder::markAroundPoints(const std::vector<DynamicPoint>& points,
+                                           const cv::Mat& depth, DynamicRegions& r) const
+{
     // Step 2: around the remaining points, pixels near in the image and in depth.
     const double radius = params_.pixel_radius, radius2 = radius * radius;
+    const cv::Size size = depth.size();
     for (const auto& p : points)
     {
         int pu = 0, pv = 0;
-        if (inside(p, pu, pv))
+        const bool inside = pixelOf(p, size, pu, pv);
+        if (inside)
         {
             const int id = r.objectIds.at<int>(pv, pu);
             if (id >= 0 && r.objects[static_cast<size_t>(id)].dynamic)
                 continue;  // its object is gone already
         }
         double z = p.depth;
-        if (!(z > 0.0) && inside(p, pu, pv))
+        if (!(z > 0.0) && inside)
             z = depth.at<float>(pv, pu);
         const int u0 = std::max(0, static_cast<int>(std::ceil(p.u - radius)));
-        const int u1 = std::min(labels.cols - 1, static_cast<int>(std::floor(p.u + radius)));
+        const int u1 = std::min(size.width - 1, static_cast<int>(std::floor(p.u + radius)));
         const int v0 = std::max(0, static_cast<int>(std::ceil(p.v - radius)));
-        const int v1 = std::min(labels.rows - 1, static_cast<int>(std::floor(p.v + radius)));
+        const int v1 = std::min(size.height - 1, static_cast<int>(std::floor(p.v + radius)));
         for (int v = v0; v <= v1; v++)
         {
             const float* d = depth.ptr<float>(v);
@@ -220,11 +242,5 @@ DynamicRegions DynamicRegionFinder::find(const cv::Mat& labels, const cv::Mat& d
             }
         }
     }
-
-    // Beyond the paper: M grows into depth-continuous neighbours.
-    if (params_.grow_pixels > 0)
-        r.pixelsGrown = growAlongDepth(r.dynamicMask, depth, params_.grow_pixels,
-                                       static_cast<float>(params_.depth_tolerance));
-    return r;
 }
 }  // namespace smap::mapping

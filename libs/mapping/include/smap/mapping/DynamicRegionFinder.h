@@ -85,6 +85,13 @@ public:
     const DynamicRegionParameters& parameters() const { return params_; }
 
 private:
+    /// Connected regions of each class present (void and non-object classes aside).
+    void findObjects(const cv::Mat& labels, DynamicRegions& r) const;
+    /// Algorithm 1 step 1: an object with more than Num dynamic points is dynamic as a whole.
+    void markDynamicObjects(const std::vector<DynamicPoint>& points, DynamicRegions& r) const;
+    /// Step 2: around the other points, pixels within sigma2 in the image and sigma1 in depth.
+    void markAroundPoints(const std::vector<DynamicPoint>& points, const cv::Mat& depth,
+                          DynamicRegions& r) const;
     DynamicRegionParameters params_;
     std::set<int> nonObject_;
 };
