@@ -88,36 +88,24 @@ int support(const Eigen::Isometry3d& T_cur_prev, const std::vector<cv::Point3f>&
 }
 }  // namespace
 
-EgoMotion estimateEgoMotionFivePoint(const features::FeatureSet& previous,
-                                     const features::FeatureSet& current,
-                                     const core::PinholeCamera& camera,
-                                     const DynamicParameters& params)
+namespace
 {
-    EgoMotion out;
-    if (previous.size() < 8 || current.size() < 8)
-        return out;
-    const auto matches =
-        frameToFrameMatches(previous, previousGrid(previous, camera), current, params, {});
-    out.matches = static_cast<int>(matches.size());
-    if (matches.size() < 8)
-        return out;
-    std::vector<cv::Point2f> prevPts, curPts;
-    for (const auto& m : matches)
-    {
-        prevPts.push_back(previous.undistorted[m.train]);
-        curPts.push_back(current.undistorted[m.query]);
-    }
-    const cv::Mat K = camera.cameraMatrix();
+/// The relative pose of the stacked essential matrix that puts most RANSAC inliers in front of
+/// both cameras (the five-point solver may return several): R, unit t, its inlier mask.
+struct RelativePose
+{
+    Eigen::Matrix3d R;
+    Eigen::Vector3d t;
     cv::Mat mask;
-    const cv::Mat E =
-        cv::findEssentialMat(prevPts, curPts, K, cv::RANSAC, params.essential_confidence,
-                             params.essential_threshold, mask);
-    if (E.cols != 3 || E.rows < 3 || E.rows % 3 != 0)
-        return out;  // degenerate
-    // The five-point solver may return several essential matrices stacked: keep the one whose
-    // pose puts most RANSAC inliers in front of both cameras.
-    cv::Mat R, t, bestMask;
-    out.inliers = 0;
+    int inliers = 0;
+};
+
+RelativePose bestEssentialPose(const cv::Mat& E, const std::vector<cv::Point2f>& prevPts,
+                               const std::vector<cv::Point2f>& curPts, const cv::Mat& K,
+                               const cv::Mat& mask)
+{
+    RelativePose best;
+    cv::Mat R, t;
     for (int k = 0; k < E.rows / 3; ++k)
     {
         cv::Mat Rk, tk, maskK = mask.clone();
@@ -126,32 +114,42 @@ EgoMotion estimateEgoMotionFivePoint(const features::FeatureSet& previous,
         cv::Mat triangulated;
         const int n = cv::recoverPose(E.rowRange(3 * k, 3 * k + 3), prevPts, curPts, K, Rk, tk, 1e7,
                                       maskK, triangulated);
-        if (n > out.inliers)
+        if (n > best.inliers)
         {
-            out.inliers = n;
+            best.inliers = n;
             R = Rk;
             t = tk;
-            bestMask = maskK;
+            best.mask = maskK;
         }
     }
-    if (out.inliers < 8)
-        return out;
-    mask = bestMask;
-    Eigen::Matrix3d Re;
-    Eigen::Vector3d te;
+    if (best.inliers == 0)
+        return best;
     for (int r = 0; r < 3; ++r)
     {
         for (int c = 0; c < 3; ++c)
-            Re(r, c) = R.at<double>(r, c);
-        te(r) = t.at<double>(r);
+            best.R(r, c) = R.at<double>(r, c);
+        best.t(r) = t.at<double>(r);
     }
-    te.normalize();
+    best.t.normalize();
+    return best;
+}
 
-    // Metric length of the translation from depth.
+/// The metric length of the unit translation from the inliers' depth: 3D-3D where both frames
+/// have depth, else the previous point moved along t onto the current pixel; (length,
+/// samples), nullopt with fewer than 5 samples of either kind.
+std::optional<std::pair<double, int>> metricScale(
+    const std::vector<features::DescriptorMatch>& matches, const RelativePose& pose,
+    const features::FeatureSet& previous, const features::FeatureSet& current,
+    const std::vector<cv::Point2f>& prevPts, const std::vector<cv::Point2f>& curPts,
+    const core::PinholeCamera& camera)
+{
+    constexpr size_t kMinSamples = 5;
+    const Eigen::Matrix3d& Re = pose.R;
+    const Eigen::Vector3d& te = pose.t;
     std::vector<double> s3, s2;
     for (size_t k = 0; k < matches.size(); ++k)
     {
-        if (mask.at<uint8_t>(static_cast<int>(k)) == 0)
+        if (pose.mask.at<uint8_t>(static_cast<int>(k)) == 0)
             continue;
         const size_t ip = matches[k].train, ic = matches[k].query;
         const float zp = previous.depth.empty() ? 0.0F : previous.depth[ip];
@@ -176,42 +174,77 @@ EgoMotion estimateEgoMotionFivePoint(const features::FeatureSet& previous,
         else if (std::abs(dy) > 1e-3)
             s2.push_back((yn * a.z() - a.y()) / dy);
     }
-    double scale = 0.0;
-    if (s3.size() >= 5)
-    {
-        out.scaleSamples = static_cast<int>(s3.size());
-        scale = core::upperMedianInPlace(s3);
-    }
-    else if (s2.size() >= 5)
-    {
-        out.scaleSamples = static_cast<int>(s2.size());
-        scale = core::upperMedianInPlace(s2);
-    }
-    else
-    {
+    if (s3.size() >= kMinSamples)
+        return std::make_pair(core::upperMedianInPlace(s3), static_cast<int>(s3.size()));
+    if (s2.size() >= kMinSamples)
+        return std::make_pair(core::upperMedianInPlace(s2), static_cast<int>(s2.size()));
+    return std::nullopt;
+}
+}  // namespace
+
+EgoMotion estimateEgoMotionFivePoint(const features::FeatureSet& previous,
+                                     const features::FeatureSet& current,
+                                     const core::PinholeCamera& camera,
+                                     const DynamicParameters& params)
+{
+    constexpr size_t kMinPoints = 8;
+    EgoMotion out;
+    if (previous.size() < kMinPoints || current.size() < kMinPoints)
         return out;
+    const auto matches =
+        frameToFrameMatches(previous, previousGrid(previous, camera), current, params, {});
+    out.matches = static_cast<int>(matches.size());
+    if (matches.size() < kMinPoints)
+        return out;
+    std::vector<cv::Point2f> prevPts, curPts;
+    for (const auto& m : matches)
+    {
+        prevPts.push_back(previous.undistorted[m.train]);
+        curPts.push_back(current.undistorted[m.query]);
     }
-    out.T_cur_prev.linear() = Re;
-    out.T_cur_prev.translation() = scale * te;
+    const cv::Mat K = camera.cameraMatrix();
+    cv::Mat mask;
+    const cv::Mat E =
+        cv::findEssentialMat(prevPts, curPts, K, cv::RANSAC, params.essential_confidence,
+                             params.essential_threshold, mask);
+    if (E.cols != 3 || E.rows < 3 || E.rows % 3 != 0)
+        return out;  // degenerate
+    const RelativePose pose = bestEssentialPose(E, prevPts, curPts, K, mask);
+    out.inliers = pose.inliers;
+    if (out.inliers < static_cast<int>(kMinPoints))
+        return out;
+    const auto scale = metricScale(matches, pose, previous, current, prevPts, curPts, camera);
+    if (!scale)
+        return out;
+    out.scaleSamples = scale->second;
+    out.T_cur_prev.linear() = pose.R;
+    out.T_cur_prev.translation() = scale->first * pose.t;
     out.valid = true;
     return out;
 }
-EgoMotion estimateEgoMotionDepthPnp(const features::FeatureSet& previous,
-                                    const features::FeatureSet& current,
-                                    const core::PinholeCamera& camera,
-                                    const DynamicParameters& params, bool refine,
-                                    const std::vector<bool>& previous_dynamic,
-                                    const std::optional<Eigen::Isometry3d>& prior)
+
+namespace
 {
-    EgoMotion out;
-    // 3D points of the previous frame (from its depth) and where the current frame sees them.
+/// 3D points of the previous frame (from its depth) and where the current frame sees them.
+struct Correspondences
+{
     std::vector<cv::Point3f> object;
     std::vector<cv::Point2f> image;
+    int matches = 0;
+};
+
+Correspondences pnpCorrespondences(const features::FeatureSet& previous,
+                                   const features::FeatureSet& current,
+                                   const core::PinholeCamera& camera,
+                                   const DynamicParameters& params,
+                                   const std::vector<bool>& previous_dynamic)
+{
+    Correspondences c;
     const features::FeatureGrid grid = previousGrid(previous, camera, previous_dynamic);
     auto addMatches = [&](const std::vector<size_t>& rows)
     {
         const auto matches = frameToFrameMatches(previous, grid, current, params, rows);
-        out.matches += static_cast<int>(matches.size());
+        c.matches += static_cast<int>(matches.size());
         for (const auto& m : matches)
         {
             const float z = previous.depth.empty() ? 0.0F : previous.depth[m.train];
@@ -219,9 +252,9 @@ EgoMotion estimateEgoMotionDepthPnp(const features::FeatureSet& previous,
                 continue;
             const auto& p = previous.undistorted[m.train];
             const Eigen::Vector3d X = camera.unproject(p.x, p.y, static_cast<double>(z));
-            object.emplace_back(static_cast<float>(X.x()), static_cast<float>(X.y()),
-                                static_cast<float>(X.z()));
-            image.push_back(current.undistorted[m.query]);
+            c.object.emplace_back(static_cast<float>(X.x()), static_cast<float>(X.y()),
+                                  static_cast<float>(X.z()));
+            c.image.push_back(current.undistorted[m.query]);
         }
     };
     const auto [first, rest] = splitQueries(current.size(), params.ego_max_queries);
@@ -229,56 +262,30 @@ EgoMotion estimateEgoMotionDepthPnp(const features::FeatureSet& previous,
     // Where movers fill much of the view, most of the first queries land on them and find
     // nothing among the previous static keypoints: query the others too.
     constexpr size_t kEnoughMatches = 60;
-    if (object.size() < kEnoughMatches && !rest.empty())
+    if (c.object.size() < kEnoughMatches && !rest.empty())
         addMatches(rest);
-    out.scaleSamples = static_cast<int>(object.size());
-    // The prior (the previous frame's motion) competes with the RANSAC solution: the one more
-    // matches agree with, within 3 x pnp_threshold, wins. It stands in where RANSAC fails.
-    const double tolerance = 3.0 * params.pnp_threshold;
-    auto usePrior = [&]()
-    {
-        out.T_cur_prev = *prior;
-        out.inliers = support(*prior, object, image, camera, tolerance);
-        out.fromPrior = true;
-        out.valid = true;
-        return out;
-    };
-    if (object.size() < 12)
-        return prior ? usePrior() : out;
-    const cv::Mat K = camera.cameraMatrix();
-    cv::Mat rvec, tvec;
-    std::vector<int> inliers;
-    if (!cv::solvePnPRansac(object, image, K, cv::noArray(), rvec, tvec, false, 100,
-                            static_cast<float>(params.pnp_threshold), 0.99, inliers,
-                            cv::SOLVEPNP_AP3P) ||
-        inliers.size() < 12)
-        return prior ? usePrior() : out;
-    cv::Mat R;
-    cv::Rodrigues(rvec, R);
-    for (int r = 0; r < 3; ++r)
-    {
-        for (int c = 0; c < 3; ++c)
-            out.T_cur_prev.linear()(r, c) = R.at<double>(r, c);
-        out.T_cur_prev.translation()(r) = tvec.at<double>(r);
-    }
-    out.inliers = static_cast<int>(inliers.size());
-    out.valid = true;
-    // With `refine`: re-select the inliers under the pose and fit it to all of them by
-    // least squares (Gauss-Newton), three rounds.
+    return c;
+}
+
+/// Re-selects the inliers under the pose and fits it to all of them by least squares
+/// (Gauss-Newton), three rounds.
+void refineOnInliers(const Correspondences& c, const core::PinholeCamera& camera,
+                     const DynamicParameters& params, EgoMotion& out)
+{
     std::vector<Eigen::Vector3d> points;
     std::vector<Eigen::Vector2d> pixels;
     const double th2 = params.pnp_threshold * params.pnp_threshold;
-    for (int round = 0; refine && round < 3; ++round)
+    for (int round = 0; round < 3; ++round)
     {
         points.clear();
         pixels.clear();
-        for (size_t k = 0; k < object.size(); ++k)
+        for (size_t k = 0; k < c.object.size(); ++k)
         {
-            const Eigen::Vector3d X(object[k].x, object[k].y, object[k].z);
+            const Eigen::Vector3d X(c.object[k].x, c.object[k].y, c.object[k].z);
             const Eigen::Vector3d P = out.T_cur_prev * X;
             if (P.z() <= 0.05)
                 continue;
-            const Eigen::Vector2d uv(image[k].x, image[k].y);
+            const Eigen::Vector2d uv(c.image[k].x, c.image[k].y);
             if ((camera.project(P) - uv).squaredNorm() <= th2)
             {
                 points.push_back(X);
@@ -293,16 +300,71 @@ EgoMotion estimateEgoMotionDepthPnp(const features::FeatureSet& previous,
             break;
         out.T_cur_prev = *fitted;
     }
-    if (!prior)
-        return out;
-    const int priorSupport = support(*prior, object, image, camera, tolerance);
-    const int ransacSupport = support(out.T_cur_prev, object, image, camera, tolerance);
-    const Eigen::Isometry3d change = prior->inverse() * out.T_cur_prev;
+}
+
+/// Whether the prior (the previous frame's motion) beats the RANSAC pose: more support when
+/// RANSAC's pose is plausible under the constant-velocity gate, a quarter of its support when
+/// not.
+bool priorWins(const Eigen::Isometry3d& prior, const EgoMotion& ransac, const Correspondences& c,
+               const core::PinholeCamera& camera, const DynamicParameters& params, double tolerance)
+{
+    const int priorSupport = support(prior, c.object, c.image, camera, tolerance);
+    const int ransacSupport = support(ransac.T_cur_prev, c.object, c.image, camera, tolerance);
+    const Eigen::Isometry3d change = prior.inverse() * ransac.T_cur_prev;
     const double degrees = Eigen::AngleAxisd(change.linear()).angle() * 180.0 / M_PI;
     const bool gated = params.ego_gate_translation > 0.0 && params.ego_gate_rotation_deg > 0.0;
     const bool plausible = !gated || (change.translation().norm() <= params.ego_gate_translation &&
                                       degrees <= params.ego_gate_rotation_deg);
-    if (plausible ? priorSupport > ransacSupport : 4 * priorSupport >= ransacSupport)
+    return plausible ? priorSupport > ransacSupport : 4 * priorSupport >= ransacSupport;
+}
+}  // namespace
+
+EgoMotion estimateEgoMotionDepthPnp(const features::FeatureSet& previous,
+                                    const features::FeatureSet& current,
+                                    const core::PinholeCamera& camera,
+                                    const DynamicParameters& params, bool refine,
+                                    const std::vector<bool>& previous_dynamic,
+                                    const std::optional<Eigen::Isometry3d>& prior)
+{
+    constexpr size_t kMinCorrespondences = 12;
+    EgoMotion out;
+    const Correspondences c =
+        pnpCorrespondences(previous, current, camera, params, previous_dynamic);
+    out.matches = c.matches;
+    out.scaleSamples = static_cast<int>(c.object.size());
+    // The prior competes with the RANSAC solution: the one more matches agree with, within
+    // 3 x pnp_threshold, wins. It stands in where RANSAC fails.
+    const double tolerance = 3.0 * params.pnp_threshold;
+    auto usePrior = [&]()
+    {
+        out.T_cur_prev = *prior;
+        out.inliers = support(*prior, c.object, c.image, camera, tolerance);
+        out.fromPrior = true;
+        out.valid = true;
+        return out;
+    };
+    if (c.object.size() < kMinCorrespondences)
+        return prior ? usePrior() : out;
+    cv::Mat rvec, tvec;
+    std::vector<int> inliers;
+    if (!cv::solvePnPRansac(c.object, c.image, camera.cameraMatrix(), cv::noArray(), rvec, tvec,
+                            false, 100, static_cast<float>(params.pnp_threshold), 0.99, inliers,
+                            cv::SOLVEPNP_AP3P) ||
+        inliers.size() < kMinCorrespondences)
+        return prior ? usePrior() : out;
+    cv::Mat R;
+    cv::Rodrigues(rvec, R);
+    for (int r = 0; r < 3; ++r)
+    {
+        for (int col = 0; col < 3; ++col)
+            out.T_cur_prev.linear()(r, col) = R.at<double>(r, col);
+        out.T_cur_prev.translation()(r) = tvec.at<double>(r);
+    }
+    out.inliers = static_cast<int>(inliers.size());
+    out.valid = true;
+    if (refine)
+        refineOnInliers(c, camera, params, out);
+    if (prior && priorWins(*prior, out, c, camera, params, tolerance))
         return usePrior();
     return out;
 }
