@@ -21,45 +21,56 @@ std::string toString(FilterMode m)
     return "off";
 }
 
-void DynamicParameters::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
-                                           const std::string&)
+core::OptionFields DynamicParameters::fields(const std::string& section)
 {
-    const char* s = "dynamic";
-    const std::string m = cfg.read_string(s, "mode", toString(mode));
-    if (m == "off")
-        mode = FilterMode::Off;
-    else if (m == "paper")
-        mode = FilterMode::Paper;
-    else if (m == "strong")
-        mode = FilterMode::Strong;
-    else
-        throw core::InputError(
-            mrpt::format("[dynamic] mode = '%s' is not one of: off, paper, strong", m.c_str()));
-    tau = cfg.read_double(s, "tau", tau);
-    lk_window = cfg.read_int(s, "lk_window", lk_window);
-    lk_levels = cfg.read_int(s, "lk_levels", lk_levels);
-    essential_threshold = cfg.read_double(s, "essential_threshold", essential_threshold);
-    essential_confidence = cfg.read_double(s, "essential_confidence", essential_confidence);
-    match_ratio = cfg.read_double(s, "match_ratio", match_ratio);
-    match_radius = cfg.read_double(s, "match_radius", match_radius);
-    pnp_threshold = cfg.read_double(s, "pnp_threshold", pnp_threshold);
-    ego_max_queries = cfg.read_int(s, "ego_max_queries", ego_max_queries);
-    frame_gap = cfg.read_int(s, "frame_gap", frame_gap);
-    ego_gate_translation = cfg.read_double(s, "ego_gate_translation", ego_gate_translation);
-    ego_gate_rotation_deg = cfg.read_double(s, "ego_gate_rotation_deg", ego_gate_rotation_deg);
-    strong_lk_window = cfg.read_int(s, "strong_lk_window", strong_lk_window);
-    strong_lk_levels = cfg.read_int(s, "strong_lk_levels", strong_lk_levels);
-    tau_min = cfg.read_double(s, "tau_min", tau_min);
-    tau_sigmas = cfg.read_double(s, "tau_sigmas", tau_sigmas);
-    depth_margin = cfg.read_double(s, "depth_margin", depth_margin);
-    depth_ratio = cfg.read_double(s, "depth_ratio", depth_ratio);
-    occlusion_margin = cfg.read_double(s, "occlusion_margin", occlusion_margin);
-    region_radius = cfg.read_double(s, "region_radius", region_radius);
-    region_depth = cfg.read_double(s, "region_depth", region_depth);
-    region_min_neighbours = cfg.read_int(s, "region_min_neighbours", region_min_neighbours);
-    isolated_fraction = cfg.read_double(s, "isolated_fraction", isolated_fraction);
-    extraction_priority_above =
-        cfg.read_double(s, "extraction_priority_above", extraction_priority_above);
+    core::OptionFields f(section, "dynamic");
+    f.addEnum(
+         "mode", mode,
+         {{"off", FilterMode::Off}, {"paper", FilterMode::Paper}, {"strong", FilterMode::Strong}})
+        .add("tau", tau)
+        .add("lk_window", lk_window)
+        .add("lk_levels", lk_levels)
+        .add("essential_threshold", essential_threshold)
+        .add("essential_confidence", essential_confidence)
+        .add("match_ratio", match_ratio)
+        .add("match_radius", match_radius)
+        .add("pnp_threshold", pnp_threshold)
+        .add("ego_max_queries", ego_max_queries)
+        .add("ego_gate_translation", ego_gate_translation)
+        .add("ego_gate_rotation_deg", ego_gate_rotation_deg)
+        .add("frame_gap", frame_gap)
+        .add("strong_lk_window", strong_lk_window)
+        .add("strong_lk_levels", strong_lk_levels)
+        .add("tau_min", tau_min)
+        .add("tau_sigmas", tau_sigmas)
+        .add("depth_margin", depth_margin)
+        .add("depth_ratio", depth_ratio)
+        .add("occlusion_margin", occlusion_margin)
+        .add("region_radius", region_radius)
+        .add("region_depth", region_depth)
+        .add("region_min_neighbours", region_min_neighbours)
+        .add("isolated_fraction", isolated_fraction)
+        .add("extraction_priority_above", extraction_priority_above);
+    return f;
+}
+
+void DynamicParameters::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
+                                           const std::string& section)
+{
+    fields(section).load(cfg);
+    validateFlowAndMatching();
+    validateStrongMode();
+}
+
+void DynamicParameters::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
+                                         const std::string& section) const
+{
+    // Saving only reads the fields the list points at.
+    const_cast<DynamicParameters*>(this)->fields(section).save(cfg);
+}
+
+void DynamicParameters::validateStrongMode() const
+{
     if (!(pnp_threshold > 0.0))
         throw core::InputError(
             mrpt::format("[dynamic] pnp_threshold = %g must be > 0", pnp_threshold));
@@ -97,6 +108,10 @@ void DynamicParameters::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
             mrpt::format("[dynamic] need region_radius >= 0 (%g), region_depth > 0 (%g), "
                          "region_min_neighbours >= 1 (%d)",
                          region_radius, region_depth, region_min_neighbours));
+}
+
+void DynamicParameters::validateFlowAndMatching() const
+{
     if (!(match_radius > 0.0))
         throw core::InputError(
             mrpt::format("[dynamic] match_radius = %g must be > 0", match_radius));
@@ -122,34 +137,4 @@ void DynamicParameters::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
             mrpt::format("[dynamic] match_ratio = %g must be in (0, 1]", match_ratio));
 }
 
-void DynamicParameters::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
-                                         const std::string&) const
-{
-    const char* s = "dynamic";
-    cfg.write(s, "mode", toString(mode));
-    cfg.write(s, "tau", tau);
-    cfg.write(s, "lk_window", lk_window);
-    cfg.write(s, "lk_levels", lk_levels);
-    cfg.write(s, "essential_threshold", essential_threshold);
-    cfg.write(s, "essential_confidence", essential_confidence);
-    cfg.write(s, "match_ratio", match_ratio);
-    cfg.write(s, "match_radius", match_radius);
-    cfg.write(s, "pnp_threshold", pnp_threshold);
-    cfg.write(s, "ego_max_queries", ego_max_queries);
-    cfg.write(s, "ego_gate_translation", ego_gate_translation);
-    cfg.write(s, "ego_gate_rotation_deg", ego_gate_rotation_deg);
-    cfg.write(s, "frame_gap", frame_gap);
-    cfg.write(s, "strong_lk_window", strong_lk_window);
-    cfg.write(s, "strong_lk_levels", strong_lk_levels);
-    cfg.write(s, "tau_min", tau_min);
-    cfg.write(s, "tau_sigmas", tau_sigmas);
-    cfg.write(s, "depth_margin", depth_margin);
-    cfg.write(s, "depth_ratio", depth_ratio);
-    cfg.write(s, "occlusion_margin", occlusion_margin);
-    cfg.write(s, "region_radius", region_radius);
-    cfg.write(s, "region_depth", region_depth);
-    cfg.write(s, "region_min_neighbours", region_min_neighbours);
-    cfg.write(s, "isolated_fraction", isolated_fraction);
-    cfg.write(s, "extraction_priority_above", extraction_priority_above);
-}
 }  // namespace smap::dynamic

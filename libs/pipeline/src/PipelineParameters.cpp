@@ -4,6 +4,7 @@
 #include <mrpt/core/format.h>
 
 #include "smap/core/InputError.h"
+#include "smap/core/OptionFields.h"
 
 namespace smap::pipeline
 {
@@ -13,7 +14,9 @@ void PipelineParameters::loadFromConfigFile(const mrpt::config::CConfigFileBase&
     const char* p = "pipeline";
     frame_queue = cfg.read_int(p, "frame_queue", frame_queue);
     keyframe_queue = cfg.read_int(p, "keyframe_queue", keyframe_queue);
-    when_full = cfg.read_string(p, "when_full", when_full);
+    core::OptionFields(p, p)
+        .addEnum("when_full", when_full, {{"wait", WhenFull::Wait}, {"drop", WhenFull::Drop}})
+        .load(cfg);
     opencv_threads = cfg.read_int(p, "opencv_threads", opencv_threads);
     if (frame_queue < 0 || frame_queue > 1000)
         throw core::InputError(
@@ -21,9 +24,6 @@ void PipelineParameters::loadFromConfigFile(const mrpt::config::CConfigFileBase&
     if (keyframe_queue < 1 || keyframe_queue > 10000)
         throw core::InputError(
             mrpt::format("[pipeline] keyframe_queue = %d must be in [1, 10000]", keyframe_queue));
-    if (when_full != "wait" && when_full != "drop")
-        throw core::InputError("[pipeline] when_full = '" + when_full +
-                               "' is not one of: wait, drop");
     if (opencv_threads < 0)
         throw core::InputError(
             mrpt::format("[pipeline] opencv_threads = %d must be >= 0", opencv_threads));
@@ -46,7 +46,10 @@ void PipelineParameters::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
     const char* p = "pipeline";
     cfg.write(p, "frame_queue", frame_queue);
     cfg.write(p, "keyframe_queue", keyframe_queue);
-    cfg.write(p, "when_full", when_full);
+    auto self = const_cast<PipelineParameters*>(this);  // saving only reads the field
+    core::OptionFields(p, p)
+        .addEnum("when_full", self->when_full, {{"wait", WhenFull::Wait}, {"drop", WhenFull::Drop}})
+        .save(cfg);
     cfg.write(p, "opencv_threads", opencv_threads);
     const char* o = "output";
     cfg.write(o, "annotated_rawlog", annotated_rawlog);

@@ -69,7 +69,8 @@ SemanticMapper::FrameResult SemanticMapper::track(PreparedFrame frame)
         job.T_world_cam = slam::toCPose3D(r.tracking.T_world_cam);
         job.dynamicPoints = std::move(dynamicPoints);
         const auto t0 = std::chrono::steady_clock::now();
-        const bool queued = worker_->submit(std::move(job), params_.pipeline.when_full == "wait");
+        const bool queued =
+            worker_->submit(std::move(job), params_.pipeline.when_full == WhenFull::Wait);
         r.queueWaitMs = core::millisecondsSince(t0);
         r.keyframeDropped = !queued;
         keyframes_ += queued ? 1 : 0;

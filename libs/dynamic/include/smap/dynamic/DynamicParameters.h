@@ -6,6 +6,8 @@
 
 #include <string>
 
+#include "smap/core/OptionFields.h"
+
 namespace smap::dynamic
 {
 enum class FilterMode
@@ -83,5 +85,11 @@ struct DynamicParameters : public mrpt::config::CLoadableOptions
                             const std::string& section) override;
     void saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
                           const std::string& section) const override;
+
+private:
+    /// Every key of the section (default [dynamic]), listed once for loading and saving.
+    core::OptionFields fields(const std::string& section);
+    void validateStrongMode() const;
+    void validateFlowAndMatching() const;
 };
 }  // namespace smap::dynamic

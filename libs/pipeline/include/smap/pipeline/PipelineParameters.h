@@ -8,6 +8,13 @@
 
 namespace smap::pipeline
 {
+/// What tracking does with a keyframe when the keyframe queue is full.
+enum class WhenFull
+{
+    Wait,  ///< wait for room: every keyframe is mapped, results are deterministic
+    Drop,  ///< never stall: the keyframe skips the map
+};
+
 struct PipelineParameters : public mrpt::config::CLoadableOptions
 {
     /// Frames read and prepared (features, dynamic filter) ahead of tracking, in their own
@@ -18,7 +25,7 @@ struct PipelineParameters : public mrpt::config::CLoadableOptions
     /// When the keyframe queue is full: "wait" (tracking pauses until the worker takes one:
     /// every keyframe reaches the map, results are deterministic) or "drop" (the keyframe skips
     /// the map; for live sensors that must never stall).
-    std::string when_full = "wait";
+    WhenFull when_full = WhenFull::Wait;
     /// Threads of OpenCV's parallel framework (cv::setNumThreads), set once before the first
     /// frame: it overrides [onnx] threads; 0 = leave it as the segmenter set it.
     int opencv_threads = 2;
