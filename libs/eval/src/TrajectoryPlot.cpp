@@ -65,88 +65,90 @@ std::string tickLabel(double v, double step)
     const int decimals = std::max(0, static_cast<int>(std::ceil(-std::log10(step))));
     return mrpt::format("%.*f", decimals, std::abs(v) < 1e-12 ? 0.0 : v);
 }
-}  // namespace
-
-cv::Mat renderAtePlot(const AteResult& ate, const PlotOptions& o)
+/// World-to-pixel mapping of the plot area: equal scale on both axes, the data centred with a
+/// 5% margin.
+struct PlotFrame
 {
-    cv::Mat img(o.height, o.width, CV_8UC3, cv::Scalar(255, 255, 255));
-    const auto axes = chooseAxes(ate, o);
-    const char* names[3] = {"x", "y", "z"};
-    const int left = 90, right = 30, top = 70, bottom = 70;
-    const cv::Rect area(left, top, o.width - left - right, o.height - top - bottom);
+    cv::Rect area;
+    std::array<int, 2> axes{};
+    double scale = 1.0, cx = 0.0, cy = 0.0;
 
+    cv::Point2d toPixel(const Eigen::Vector3d& v) const
+    {
+        return {area.x + area.width / 2.0 + (v[axes[0]] - cx) * scale,
+                area.y + area.height / 2.0 - (v[axes[1]] - cy) * scale};
+    }
+};
+
+PlotFrame fitPlotFrame(const AteResult& ate, const std::array<int, 2>& axes, const cv::Rect& area)
+{
     double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
     for (const auto& p : ate.perPose)
-    {
         for (int k = 0; k < 2; k++)
-        {
             for (const auto* v : {&p.gtPosition, &p.estPositionAligned})
             {
                 lo[k] = std::min(lo[k], (*v)[axes[static_cast<size_t>(k)]]);
                 hi[k] = std::max(hi[k], (*v)[axes[static_cast<size_t>(k)]]);
             }
-        }
-    }
     if (ate.perPose.empty())
         lo[0] = lo[1] = -1, hi[0] = hi[1] = 1;
-    // Equal scale on both axes, with a 5% margin.
     const double span = std::max({hi[0] - lo[0], (hi[1] - lo[1]) * area.width / area.height, 1e-3});
-    const double scale = area.width / (1.1 * span);
-    const double cx = 0.5 * (lo[0] + hi[0]), cy = 0.5 * (lo[1] + hi[1]);
-    auto toPixel = [&](const Eigen::Vector3d& v)
-    {
-        return cv::Point2d(area.x + area.width / 2.0 + (v[axes[0]] - cx) * scale,
-                           area.y + area.height / 2.0 - (v[axes[1]] - cy) * scale);
-    };
-    const double step = niceStep(area.width / scale, 8);
-    const double x0 = cx - area.width / (2 * scale), x1 = cx + area.width / (2 * scale);
-    const double y0 = cy - area.height / (2 * scale), y1 = cy + area.height / (2 * scale);
+    PlotFrame f;
+    f.area = area;
+    f.axes = axes;
+    f.scale = area.width / (1.1 * span);
+    f.cx = 0.5 * (lo[0] + hi[0]);
+    f.cy = 0.5 * (lo[1] + hi[1]);
+    return f;
+}
+
+void drawGrid(cv::Mat& img, const PlotFrame& f)
+{
+    const cv::Rect& area = f.area;
+    const double step = niceStep(area.width / f.scale, 8);
+    const double x0 = f.cx - area.width / (2 * f.scale), x1 = f.cx + area.width / (2 * f.scale);
+    const double y0 = f.cy - area.height / (2 * f.scale), y1 = f.cy + area.height / (2 * f.scale);
     for (double x = std::ceil(x0 / step) * step; x <= x1; x += step)
     {
-        const int px = static_cast<int>(std::lround(area.x + area.width / 2.0 + (x - cx) * scale));
+        const int px =
+            static_cast<int>(std::lround(area.x + area.width / 2.0 + (x - f.cx) * f.scale));
         cv::line(img, {px, area.y}, {px, area.y + area.height}, kGrey, 1);
         putText(img, tickLabel(x, step), {px - 18, area.y + area.height + 22}, 0.5, kDarkGrey);
     }
     for (double y = std::ceil(y0 / step) * step; y <= y1; y += step)
     {
-        const int py = static_cast<int>(std::lround(area.y + area.height / 2.0 - (y - cy) * scale));
+        const int py =
+            static_cast<int>(std::lround(area.y + area.height / 2.0 - (y - f.cy) * f.scale));
         cv::line(img, {area.x, py}, {area.x + area.width, py}, kGrey, 1);
         putText(img, tickLabel(y, step), {8, py + 5}, 0.5, kDarkGrey);
     }
     cv::rectangle(img, area, kBlack, 1);
+}
 
+void drawTrajectories(cv::Mat& img, const AteResult& ate, const PlotFrame& f)
+{
     const int shift = 4;  // sub-pixel drawing
-    auto fixed = [&](const cv::Point2d& p)
+    auto fixed = [&](const Eigen::Vector3d& v)
     {
+        const cv::Point2d p = f.toPixel(v);
         return cv::Point(static_cast<int>(std::lround(p.x * (1 << shift))),
                          static_cast<int>(std::lround(p.y * (1 << shift))));
     };
     for (const auto& p : ate.perPose)
-        cv::line(img, fixed(toPixel(p.gtPosition)), fixed(toPixel(p.estPositionAligned)), kError, 1,
-                 cv::LINE_AA, shift);
+        cv::line(img, fixed(p.gtPosition), fixed(p.estPositionAligned), kError, 1, cv::LINE_AA,
+                 shift);
     // Estimate first, ground truth on top, so the reference stays visible.
     for (size_t i = 1; i < ate.perPose.size(); i++)
-    {
-        cv::line(img, fixed(toPixel(ate.perPose[i - 1].estPositionAligned)),
-                 fixed(toPixel(ate.perPose[i].estPositionAligned)), kEstimate, 2, cv::LINE_AA,
-                 shift);
-    }
+        cv::line(img, fixed(ate.perPose[i - 1].estPositionAligned),
+                 fixed(ate.perPose[i].estPositionAligned), kEstimate, 2, cv::LINE_AA, shift);
     for (size_t i = 1; i < ate.perPose.size(); i++)
-    {
-        cv::line(img, fixed(toPixel(ate.perPose[i - 1].gtPosition)),
-                 fixed(toPixel(ate.perPose[i].gtPosition)), kGroundTruth, 2, cv::LINE_AA, shift);
-    }
+        cv::line(img, fixed(ate.perPose[i - 1].gtPosition), fixed(ate.perPose[i].gtPosition),
+                 kGroundTruth, 2, cv::LINE_AA, shift);
+}
 
-    putText(img, o.title, {left, 30}, 0.75, kBlack, 2);
-    putText(img,
-            mrpt::format("RMSE %.4f m   mean %.4f m   max %.4f m   %zu pairs", ate.translation.rmse,
-                         ate.translation.mean, ate.translation.max, ate.pairs),
-            {left, 55}, 0.55, kDarkGrey);
-    putText(img, mrpt::format("%s [m]", names[axes[0]]),
-            {area.x + area.width / 2 - 15, o.height - 18}, 0.6, kBlack);
-    putText(img, mrpt::format("%s [m]", names[axes[1]]), {8, area.y - 10}, 0.6, kBlack);
-
-    // Legend, top right inside the plot area.
+/// Legend, top right inside the plot area.
+void drawLegend(cv::Mat& img, const cv::Rect& area)
+{
     const cv::Rect legend(area.x + area.width - 210, area.y + 10, 200, 80);
     cv::rectangle(img, legend, cv::Scalar(255, 255, 255), cv::FILLED);
     cv::rectangle(img, legend, kDarkGrey, 1);
@@ -161,6 +163,28 @@ cv::Mat renderAtePlot(const AteResult& ate, const PlotOptions& o)
                  cv::LINE_AA);
         putText(img, entries[i].first, {legend.x + 55, y}, 0.5, kBlack);
     }
+}
+}  // namespace
+
+cv::Mat renderAtePlot(const AteResult& ate, const PlotOptions& o)
+{
+    cv::Mat img(o.height, o.width, CV_8UC3, cv::Scalar(255, 255, 255));
+    const auto axes = chooseAxes(ate, o);
+    const char* names[3] = {"x", "y", "z"};
+    const int left = 90, right = 30, top = 70, bottom = 70;
+    const cv::Rect area(left, top, o.width - left - right, o.height - top - bottom);
+    const PlotFrame frame = fitPlotFrame(ate, axes, area);
+    drawGrid(img, frame);
+    drawTrajectories(img, ate, frame);
+    putText(img, o.title, {left, 30}, 0.75, kBlack, 2);
+    putText(img,
+            mrpt::format("RMSE %.4f m   mean %.4f m   max %.4f m   %zu pairs", ate.translation.rmse,
+                         ate.translation.mean, ate.translation.max, ate.pairs),
+            {left, 55}, 0.55, kDarkGrey);
+    putText(img, mrpt::format("%s [m]", names[axes[0]]),
+            {area.x + area.width / 2 - 15, o.height - 18}, 0.6, kBlack);
+    putText(img, mrpt::format("%s [m]", names[axes[1]]), {8, area.y - 10}, 0.6, kBlack);
+    drawLegend(img, area);
     return img;
 }
 
