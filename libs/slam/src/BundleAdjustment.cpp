@@ -114,99 +114,109 @@ struct BaProblem
     }
 };
 
-// Robust solve, outliers classified, plain solve, classified again; then the result is
-// written back under the map mutex.
-BundleAdjustmentStats solveAndWriteBack(BaProblem& pb, Map& map, int robust_iterations,
-                                        int refine_iterations, const std::atomic<bool>& abort)
+/// One Ceres solve over the inlier observations (Huber loss when robust); true when the
+/// callback aborted it.
+bool solveOnce(BaProblem& pb, int iterations, bool robust, AbortCallback& callback)
 {
-    BundleAdjustmentStats stats;
-    auto& kfs = pb.kfs;
-    auto& pts = pb.pts;
-    auto& obs = pb.obs;
-    for (const auto& k : kfs)
-        (k.fixed ? stats.fixedKeyframes : stats.keyframes)++;
-    stats.points = static_cast<int>(pts.size());
-    stats.observations = static_cast<int>(obs.size());
-    if (stats.keyframes == 0 || pts.empty())
-        return stats;
-    AbortCallback callback(abort);
-    auto solve = [&](int iterations, bool robust)
+    ceres::Problem problem;
+    for (auto& o : pb.obs)
     {
-        if (iterations <= 0 || abort.load())
-            return;
-        ceres::Problem problem;
-        for (auto& o : obs)
-        {
-            if (o.outlier)
-                continue;
-            auto& kf = kfs[o.keyframe];
-            ceres::LossFunction* loss =
-                robust ? new ceres::HuberLoss(std::sqrt(o.obs.stereo() ? kChi2Stereo : kChi2Mono))
-                       : nullptr;
-            if (o.obs.stereo())
-                problem.AddResidualBlock(
-                    new ceres::AutoDiffCostFunction<ReprojectionResidual<3>, 3, 6, 3>(
-                        new ReprojectionResidual<3>(o.obs, kf.cam)),
-                    loss, kf.pose.data(), pts[o.point].position.data());
-            else
-                problem.AddResidualBlock(
-                    new ceres::AutoDiffCostFunction<ReprojectionResidual<2>, 2, 6, 3>(
-                        new ReprojectionResidual<2>(o.obs, kf.cam)),
-                    loss, kf.pose.data(), pts[o.point].position.data());
-        }
-        for (auto& kf : kfs)
-            if (kf.fixed && problem.HasParameterBlock(kf.pose.data()))
-                problem.SetParameterBlockConstant(kf.pose.data());
-        ceres::Solver::Options options;
-        options.linear_solver_type = ceres::SPARSE_SCHUR;
-        options.max_num_iterations = iterations;
-        options.num_threads = 1;
-        options.logging_type = ceres::SILENT;
-        options.callbacks.push_back(&callback);
-        ceres::Solver::Summary summary;
-        ceres::Solve(options, &problem, &summary);
-        stats.aborted = stats.aborted || summary.termination_type == ceres::USER_FAILURE;
-    };
-    auto classify = [&]()
-    {
-        for (auto& o : obs)
-        {
-            bool inFront = false;
-            const double chi2 =
-                reprojectionChi2(kfs[o.keyframe].pose.data(), pts[o.point].position.data(), o.obs,
-                                 kfs[o.keyframe].cam, inFront);
-            o.outlier = !inFront || chi2 > (o.obs.stereo() ? kChi2Stereo : kChi2Mono);
-        }
-    };
-    solve(robust_iterations, true);
-    classify();
-    solve(refine_iterations, false);
-    classify();
-    stats.aborted = stats.aborted || abort.load();
+        if (o.outlier)
+            continue;
+        auto& kf = pb.kfs[o.keyframe];
+        ceres::LossFunction* loss =
+            robust ? new ceres::HuberLoss(std::sqrt(o.obs.stereo() ? kChi2Stereo : kChi2Mono))
+                   : nullptr;
+        if (o.obs.stereo())
+            problem.AddResidualBlock(
+                new ceres::AutoDiffCostFunction<ReprojectionResidual<3>, 3, 6, 3>(
+                    new ReprojectionResidual<3>(o.obs, kf.cam)),
+                loss, kf.pose.data(), pb.pts[o.point].position.data());
+        else
+            problem.AddResidualBlock(
+                new ceres::AutoDiffCostFunction<ReprojectionResidual<2>, 2, 6, 3>(
+                    new ReprojectionResidual<2>(o.obs, kf.cam)),
+                loss, kf.pose.data(), pb.pts[o.point].position.data());
+    }
+    for (auto& kf : pb.kfs)
+        if (kf.fixed && problem.HasParameterBlock(kf.pose.data()))
+            problem.SetParameterBlockConstant(kf.pose.data());
+    ceres::Solver::Options options;
+    options.linear_solver_type = ceres::SPARSE_SCHUR;
+    options.max_num_iterations = iterations;
+    options.num_threads = 1;
+    options.logging_type = ceres::SILENT;
+    options.callbacks.push_back(&callback);
+    ceres::Solver::Summary summary;
+    ceres::Solve(options, &problem, &summary);
+    return summary.termination_type == ceres::USER_FAILURE;
+}
 
+/// Marks the observations behind their camera or beyond the chi-square bound as outliers.
+void classifyOutliers(BaProblem& pb)
+{
+    for (auto& o : pb.obs)
+    {
+        bool inFront = false;
+        const double chi2 =
+            reprojectionChi2(pb.kfs[o.keyframe].pose.data(), pb.pts[o.point].position.data(), o.obs,
+                             pb.kfs[o.keyframe].cam, inFront);
+        o.outlier = !inFront || chi2 > (o.obs.stereo() ? kChi2Stereo : kChi2Mono);
+    }
+}
+
+/// Under the map mutex: outlier observations removed, then the poses and points written back.
+int writeBack(const BaProblem& pb, Map& map)
+{
     std::lock_guard<std::mutex> lock(map.mutex());
-    for (const auto& o : obs)
+    int removed = 0;
+    for (const auto& o : pb.obs)
     {
         if (!o.outlier)
             continue;
-        KeyFrame& kf = *kfs[o.keyframe].kf;
-        const auto& mp = pts[o.point].mp;
+        KeyFrame& kf = *pb.kfs[o.keyframe].kf;
+        const auto& mp = pb.pts[o.point].mp;
         if (kf.isBad() || mp->isBad() || kf.points[o.keypoint] != mp)
             continue;
         kf.points[o.keypoint].reset();
         mp->eraseObservation(&kf);
-        stats.outliersRemoved++;
+        removed++;
     }
-    for (auto& k : kfs)
+    for (const auto& k : pb.kfs)
         if (!k.fixed && !k.kf->isBad())
             k.kf->setPose(paramsToPose(k.pose.data()));
-    for (auto& p : pts)
+    for (const auto& p : pb.pts)
     {
         if (p.mp->isBad())
             continue;
         p.mp->position_world = Eigen::Vector3d(p.position[0], p.position[1], p.position[2]);
         p.mp->updateNormalAndDepth();
     }
+    return removed;
+}
+
+// Robust solve, outliers classified, plain solve, classified again; then the result is
+// written back under the map mutex.
+BundleAdjustmentStats solveAndWriteBack(BaProblem& pb, Map& map, int robust_iterations,
+                                        int refine_iterations, const std::atomic<bool>& abort)
+{
+    BundleAdjustmentStats stats;
+    for (const auto& k : pb.kfs)
+        (k.fixed ? stats.fixedKeyframes : stats.keyframes)++;
+    stats.points = static_cast<int>(pb.pts.size());
+    stats.observations = static_cast<int>(pb.obs.size());
+    if (stats.keyframes == 0 || pb.pts.empty())
+        return stats;
+    AbortCallback callback(abort);
+    for (const auto& [iterations, robust] :
+         {std::pair<int, bool>{robust_iterations, true}, {refine_iterations, false}})
+    {
+        if (iterations > 0 && !abort.load())
+            stats.aborted = solveOnce(pb, iterations, robust, callback) || stats.aborted;
+        classifyOutliers(pb);
+    }
+    stats.aborted = stats.aborted || abort.load();
+    stats.outliersRemoved = writeBack(pb, map);
     return stats;
 }
 }  // namespace
