@@ -28,6 +28,90 @@ void writePng(const fs::path& path, const cv::Mat& img)
     if (!cv::imwrite(path.string(), img))
         throw std::runtime_error("cannot write " + path.string());
 }
+
+/// The frame's images below `dir` (rgb/, depth/, labels/, instances/, dynamic/); returns the
+/// colour file's name (PNG, or JPEG at `jpegQuality` when > 0).
+std::string writeFrameImages(const fs::path& dir, size_t i, const sim::SyntheticFrame& f,
+                             int jpegQuality, double depthFactor)
+{
+    const std::string name = mrpt::format("%06zu.png", i);
+    const std::string colourName = mrpt::format(jpegQuality > 0 ? "%06zu.jpg" : "%06zu.png", i);
+    if (!cv::imwrite((dir / "rgb" / colourName).string(), f.rendered.colour,
+                     {cv::IMWRITE_JPEG_QUALITY, jpegQuality > 0 ? jpegQuality : 95}))
+        throw std::runtime_error("cannot write " + (dir / "rgb" / colourName).string());
+    cv::Mat depth16;
+    f.rendered.depth.convertTo(depth16, CV_16UC1, depthFactor);
+    writePng(dir / "depth" / name, depth16);
+    writePng(dir / "labels" / name, f.rendered.labels);
+    writePng(dir / "instances" / name, f.rendered.instances);
+    writePng(dir / "dynamic" / name, f.rendered.dynamic);
+    return colourName;
+}
+
+/// rgb.txt, depth.txt and associations.txt, as TUM's tools write them.
+class FrameLists
+{
+public:
+    explicit FrameLists(const fs::path& dir)
+        : dir_(dir),
+          rgb_(dir / "rgb.txt"),
+          depth_(dir / "depth.txt"),
+          assoc_(dir / "associations.txt")
+    {
+        rgb_ << "# colour images\n# timestamp filename\n";
+        depth_ << "# depth maps, 16-bit PNG, depth factor 5000 (0 = invalid)\n# timestamp "
+                  "filename\n";
+    }
+    void add(double timestamp, const std::string& colourName, size_t i)
+    {
+        const std::string name = mrpt::format("%06zu.png", i);
+        const std::string ts = mrpt::format("%.6f", timestamp);
+        rgb_ << ts << " rgb/" << colourName << "\n";
+        depth_ << ts << " depth/" << name << "\n";
+        assoc_ << ts << " rgb/" << colourName << " " << ts << " depth/" << name << "\n";
+    }
+    void close()
+    {
+        for (auto* s : {&rgb_, &depth_, &assoc_})
+        {
+            s->close();
+            if (s->fail())
+                throw std::runtime_error("cannot write the frame lists in " + dir_.string());
+        }
+    }
+
+private:
+    fs::path dir_;
+    std::ofstream rgb_, depth_, assoc_;
+};
+
+void writeMeta(const fs::path& dir, core::JsonValue meta,
+               const std::map<std::string, core::Trajectory>& objects)
+{
+    auto paths = core::JsonValue::array();
+    for (const auto& [obj, traj] : objects)
+        paths.push(core::JsonValue::string("objects/" + obj + ".txt"));
+    meta.set("object_trajectories", paths);
+    core::AtomicTextFile f((dir / "meta.json").string());
+    f.stream() << meta.dump();
+    f.commit();
+}
+
+/// camera.ini: how to read the folder (its camera and depth factor).
+void writeFolderCamera(const fs::path& dir, const core::PinholeCamera& camera, double depthFactor)
+{
+    mrpt::config::CConfigFileMemory cfg;
+    core::saveCamera(camera, cfg, "camera");
+    cfg.write("tum", "depth_factor", depthFactor);
+    std::string text;
+    cfg.getContent(text);
+    core::AtomicTextFile f((dir / io::kFolderCameraFile).string());
+    f.stream() << "# Written by smap-synth: how to read this folder. semantic-mapper, "
+                  "smap-segment and\n# tum2rawlog load it when no [camera] is "
+                  "configured.\n"
+               << text;
+    f.commit();
+}
 }  // namespace
 
 SyntheticSequenceWriter::SyntheticSequenceWriter() : COutputLogger("SyntheticSequenceWriter") {}
@@ -89,81 +173,43 @@ void SyntheticSequenceWriter::write(const FrameProducer& produce, size_t frames,
             const fs::path tmp(tmpDir);
             for (const char* d : {"rgb", "depth", "labels", "instances", "dynamic", "objects"})
                 fs::create_directories(tmp / d);
-            std::ofstream rgbList(tmp / "rgb.txt"), depthList(tmp / "depth.txt"),
-                assoc(tmp / "associations.txt");
-            rgbList << "# colour images\n# timestamp filename\n";
-            depthList << "# depth maps, 16-bit PNG, depth factor 5000 (0 = invalid)\n# timestamp "
-                         "filename\n";
-            core::Trajectory gt;
             std::map<std::string, core::Trajectory> objects;
-            mrpt::system::CTicTac timer;
-            double lastReport = 0.0;
-            for (size_t i = 0; i < frames; i++)
-            {
-                const sim::SyntheticFrame f = produce(i);
-                const std::string name = mrpt::format("%06zu.png", i);
-                const std::string colourName =
-                    mrpt::format(jpegQuality_ > 0 ? "%06zu.jpg" : "%06zu.png", i);
-                if (!cv::imwrite((tmp / "rgb" / colourName).string(), f.rendered.colour,
-                                 {cv::IMWRITE_JPEG_QUALITY, jpegQuality_ > 0 ? jpegQuality_ : 95}))
-                    throw std::runtime_error("cannot write " + (tmp / "rgb" / colourName).string());
-                cv::Mat depth16;
-                f.rendered.depth.convertTo(depth16, CV_16UC1, kDepthFactor);
-                writePng(tmp / "depth" / name, depth16);
-                writePng(tmp / "labels" / name, f.rendered.labels);
-                writePng(tmp / "instances" / name, f.rendered.instances);
-                writePng(tmp / "dynamic" / name, f.rendered.dynamic);
-                const std::string ts = mrpt::format("%.6f", f.timestamp);
-                rgbList << ts << " rgb/" << colourName << "\n";
-                depthList << ts << " depth/" << name << "\n";
-                assoc << ts << " rgb/" << colourName << " " << ts << " depth/" << name << "\n";
-                gt.push_back({f.timestamp, f.T_world_cam});
-                for (const auto& [obj, pose] : f.objectPoses)
-                    objects[obj].push_back({f.timestamp, pose});
-                if (timer.Tac() - lastReport > 2.0)
-                {
-                    lastReport = timer.Tac();
-                    MRPT_LOG_INFO_FMT("frame %zu / %zu (%.1f frames/s)", i + 1, frames,
-                                      (i + 1) / lastReport);
-                }
-            }
-            for (auto* s : {&rgbList, &depthList, &assoc})
-            {
-                s->close();
-                if (s->fail())
-                    throw std::runtime_error("cannot write the frame lists in " + tmp.string());
-            }
-            io::writeTumTrajectory((tmp / "groundtruth.txt").string(), gt,
-                                   "ground truth T_world_cam (optical frame)");
+            writeFrames(produce, frames, tmp, objects);
             for (const auto& [obj, traj] : objects)
                 io::writeTumTrajectory((tmp / "objects" / (obj + ".txt")).string(), traj,
                                        obj + " root pose (feet on the floor, z up)");
-
-            {
-                auto metaOut = meta;
-                auto paths = core::JsonValue::array();
-                for (const auto& [obj, traj] : objects)
-                    paths.push(core::JsonValue::string("objects/" + obj + ".txt"));
-                metaOut.set("object_trajectories", paths);
-                core::AtomicTextFile f((tmp / "meta.json").string());
-                f.stream() << metaOut.dump();
-                f.commit();
-            }
-            {
-                mrpt::config::CConfigFileMemory cfg;
-                core::saveCamera(camera, cfg, "camera");
-                cfg.write("tum", "depth_factor", kDepthFactor);
-                std::string text;
-                cfg.getContent(text);
-                core::AtomicTextFile f((tmp / io::kFolderCameraFile).string());
-                f.stream() << "# Written by smap-synth: how to read this folder. semantic-mapper, "
-                              "smap-segment and\n# tum2rawlog load it when no [camera] is "
-                              "configured.\n"
-                           << text;
-                f.commit();
-            }
+            writeMeta(tmp, meta, objects);
+            writeFolderCamera(tmp, camera, kDepthFactor);
         },
         io::isSmapSynthOutput);  // the only kind of existing folder --out may replace
+}
+
+void SyntheticSequenceWriter::writeFrames(const FrameProducer& produce, size_t frames,
+                                          const std::string& folder,
+                                          std::map<std::string, core::Trajectory>& objects)
+{
+    const fs::path dir(folder);
+    FrameLists lists(dir);
+    core::Trajectory gt;
+    mrpt::system::CTicTac timer;
+    double lastReport = 0.0;
+    for (size_t i = 0; i < frames; i++)
+    {
+        const sim::SyntheticFrame f = produce(i);
+        lists.add(f.timestamp, writeFrameImages(dir, i, f, jpegQuality_, kDepthFactor), i);
+        gt.push_back({f.timestamp, f.T_world_cam});
+        for (const auto& [obj, pose] : f.objectPoses)
+            objects[obj].push_back({f.timestamp, pose});
+        if (timer.Tac() - lastReport > 2.0)
+        {
+            lastReport = timer.Tac();
+            MRPT_LOG_INFO_FMT("frame %zu / %zu (%.1f frames/s)", i + 1, frames,
+                              (i + 1) / lastReport);
+        }
+    }
+    lists.close();
+    io::writeTumTrajectory((dir / "groundtruth.txt").string(), gt,
+                           "ground truth T_world_cam (optical frame)");
 }
 
 void writeContactSheet(const std::string& sequenceFolder, size_t count, const std::string& pngPath)

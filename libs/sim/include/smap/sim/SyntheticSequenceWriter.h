@@ -9,9 +9,11 @@
 #include <mrpt/system/COutputLogger.h>
 
 #include <functional>
+#include <map>
 #include <string>
 
 #include "smap/core/JsonWriter.h"
+#include "smap/core/Trajectory.h"
 #include "smap/sim/SequenceGenerator.h"
 
 namespace smap::sim
@@ -39,6 +41,11 @@ public:
     static constexpr double kDepthFactor = 5000.0;
 
 private:
+    /// The frames' images, lists and ground truth into `folder`; each object's trajectory into
+    /// `objects`.
+    void writeFrames(const FrameProducer& produce, size_t frames, const std::string& folder,
+                     std::map<std::string, core::Trajectory>& objects);
+
     int jpegQuality_ = 0;
 };
 
