@@ -5,6 +5,57 @@
 
 namespace smap::dynamic
 {
+namespace
+{
+/// Pinholes (a surface seen from closer covers more pixels): mean of the 3x3 neighbours that
+/// were valid before the pass, where at least 3 are, `fill_passes` times.
+void fillPinholes(WarpedFrame& out, int fill_passes)
+{
+    const int w = out.grey.cols, h = out.grey.rows;
+    cv::Mat filled = out.valid.clone();
+    for (int pass = 0; pass < fill_passes; ++pass)
+    {
+        const cv::Mat before = filled.clone();
+        for (int v = 1; v < h - 1; ++v)
+        {
+            const uint8_t* b[3] = {before.ptr<uint8_t>(v - 1), before.ptr<uint8_t>(v),
+                                   before.ptr<uint8_t>(v + 1)};
+            const uint8_t* g[3] = {out.grey.ptr<uint8_t>(v - 1), out.grey.ptr<uint8_t>(v),
+                                   out.grey.ptr<uint8_t>(v + 1)};
+            const float* z[3] = {out.depth.ptr<float>(v - 1), out.depth.ptr<float>(v),
+                                 out.depth.ptr<float>(v + 1)};
+            uint8_t* grow = out.grey.ptr<uint8_t>(v);
+            float* zrow = out.depth.ptr<float>(v);
+            uint8_t* frow = filled.ptr<uint8_t>(v);
+            for (int u = 1; u < w - 1; ++u)
+            {
+                if (b[1][u] != 0)
+                    continue;
+                int sum = 0, n = 0;
+                float zsum = 0.0F;
+                for (int r = 0; r < 3; ++r)
+                {
+                    for (int du = -1; du <= 1; ++du)
+                    {
+                        if (b[r][u + du] == 0)
+                            continue;
+                        sum += g[r][u + du];
+                        zsum += z[r][u + du];
+                        n++;
+                    }
+                }
+                if (n >= 3)
+                {
+                    grow[u] = static_cast<uint8_t>(sum / n);
+                    zrow[u] = zsum / static_cast<float>(n);
+                    frow[u] = 255;
+                }
+            }
+        }
+    }
+}
+}  // namespace
+
 WarpedFrame warpIntoCurrentView(const cv::Mat& previous_grey, const cv::Mat& previous_depth,
                                 const core::PinholeCamera& camera,
                                 const Eigen::Isometry3d& T_cur_prev, int fill_passes)
@@ -51,49 +102,7 @@ WarpedFrame warpIntoCurrentView(const cv::Mat& previous_grey, const cv::Mat& pre
             }
         }
     }
-    // Pinholes (a surface seen from closer covers more pixels): mean of the 3x3 neighbours
-    // that were valid before the pass, where at least 3 are, `fill_passes` times.
-    cv::Mat filled = out.valid.clone();
-    for (int pass = 0; pass < fill_passes; ++pass)
-    {
-        const cv::Mat before = filled.clone();
-        for (int v = 1; v < h - 1; ++v)
-        {
-            const uint8_t* b[3] = {before.ptr<uint8_t>(v - 1), before.ptr<uint8_t>(v),
-                                   before.ptr<uint8_t>(v + 1)};
-            const uint8_t* g[3] = {out.grey.ptr<uint8_t>(v - 1), out.grey.ptr<uint8_t>(v),
-                                   out.grey.ptr<uint8_t>(v + 1)};
-            const float* z[3] = {out.depth.ptr<float>(v - 1), out.depth.ptr<float>(v),
-                                 out.depth.ptr<float>(v + 1)};
-            uint8_t* grow = out.grey.ptr<uint8_t>(v);
-            float* zrow = out.depth.ptr<float>(v);
-            uint8_t* frow = filled.ptr<uint8_t>(v);
-            for (int u = 1; u < w - 1; ++u)
-            {
-                if (b[1][u] != 0)
-                    continue;
-                int sum = 0, n = 0;
-                float zsum = 0.0F;
-                for (int r = 0; r < 3; ++r)
-                {
-                    for (int du = -1; du <= 1; ++du)
-                    {
-                        if (b[r][u + du] == 0)
-                            continue;
-                        sum += g[r][u + du];
-                        zsum += z[r][u + du];
-                        n++;
-                    }
-                }
-                if (n >= 3)
-                {
-                    grow[u] = static_cast<uint8_t>(sum / n);
-                    zrow[u] = zsum / static_cast<float>(n);
-                    frow[u] = 255;
-                }
-            }
-        }
-    }
+    fillPinholes(out, fill_passes);
     return out;
 }
 }  // namespace smap::dynamic
