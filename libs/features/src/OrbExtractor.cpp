@@ -75,6 +75,69 @@ OrbExtractor::OrbExtractor(const OrbParameters& params)
             static_cast<int>(std::floor(std::sqrt(kPatchRadius * kPatchRadius - v * v + 0.5)));
 }
 
+namespace
+{
+struct Ranked
+{
+    cv::KeyPoint kp;
+    int rank;
+    bool last;  ///< in `fill_last`
+};
+
+/// Whether a corner of a pyramid level (downscaled by `scale`) falls where `fill_last` (a mask
+/// over the whole image, any resolution) is set.
+bool inFillLast(const cv::Mat& fill_last, const cv::Point2f& p_level, float scale,
+                cv::Size image_size)
+{
+    if (fill_last.empty())
+        return false;
+    const int mx =
+        std::clamp(static_cast<int>(p_level.x * scale * static_cast<float>(fill_last.cols) /
+                                    static_cast<float>(image_size.width)),
+                   0, fill_last.cols - 1);
+    const int my =
+        std::clamp(static_cast<int>(p_level.y * scale * static_cast<float>(fill_last.rows) /
+                                    static_cast<float>(image_size.height)),
+                   0, fill_last.rows - 1);
+    return fill_last.at<uint8_t>(my, mx) != 0;
+}
+
+/// FAST corners of a cell at the threshold, else at the fallback threshold; highest response
+/// first, ties by position so the order is deterministic.
+std::vector<cv::KeyPoint> cellCorners(const cv::Mat& roi, int threshold, int fallback)
+{
+    std::vector<cv::KeyPoint> cell;
+    cv::FAST(roi, cell, threshold, true);
+    if (cell.empty())
+        cv::FAST(roi, cell, fallback, true);
+    std::sort(cell.begin(), cell.end(),
+              [](const cv::KeyPoint& a, const cv::KeyPoint& b)
+              {
+                  if (a.response != b.response)
+                      return a.response > b.response;
+                  return a.pt.y != b.pt.y ? a.pt.y < b.pt.y : a.pt.x < b.pt.x;
+              });
+    return cell;
+}
+
+/// Round robin over the cells: every cell's best corner before any cell's second best (and all
+/// of that outside `fill_last` before any corner inside it).
+void sortRoundRobin(std::vector<Ranked>& candidates)
+{
+    std::sort(candidates.begin(), candidates.end(),
+              [](const Ranked& a, const Ranked& b)
+              {
+                  if (a.last != b.last)
+                      return b.last;
+                  if (a.rank != b.rank)
+                      return a.rank < b.rank;
+                  if (a.kp.response != b.kp.response)
+                      return a.kp.response > b.kp.response;
+                  return a.kp.pt.y != b.kp.pt.y ? a.kp.pt.y < b.kp.pt.y : a.kp.pt.x < b.kp.pt.x;
+              });
+}
+}  // namespace
+
 void OrbExtractor::detectLevel(const cv::Mat& level, int wanted, const cv::Mat& fill_last,
                                float scale, cv::Size image_size,
                                std::vector<cv::KeyPoint>& out) const
@@ -87,29 +150,7 @@ void OrbExtractor::detectLevel(const cv::Mat& level, int wanted, const cv::Mat& 
     const int nCols = std::max(1, (x1 - x0) / params_.cell_size);
     const int nRows = std::max(1, (y1 - y0) / params_.cell_size);
     const int cellW = (x1 - x0 + nCols - 1) / nCols, cellH = (y1 - y0 + nRows - 1) / nRows;
-
-    struct Ranked
-    {
-        cv::KeyPoint kp;
-        int rank;
-        bool last;  ///< in `fill_last`
-    };
-    auto inFillLast = [&](const cv::Point2f& p_level)
-    {
-        if (fill_last.empty())
-            return false;
-        const int mx =
-            std::clamp(static_cast<int>(p_level.x * scale * static_cast<float>(fill_last.cols) /
-                                        static_cast<float>(image_size.width)),
-                       0, fill_last.cols - 1);
-        const int my =
-            std::clamp(static_cast<int>(p_level.y * scale * static_cast<float>(fill_last.rows) /
-                                        static_cast<float>(image_size.height)),
-                       0, fill_last.rows - 1);
-        return fill_last.at<uint8_t>(my, mx) != 0;
-    };
     std::vector<Ranked> candidates;
-    std::vector<cv::KeyPoint> cell;
     for (int r = 0; r < nRows; ++r)
     {
         for (int c = 0; c < nCols; ++c)
@@ -119,20 +160,9 @@ void OrbExtractor::detectLevel(const cv::Mat& level, int wanted, const cv::Mat& 
             if (cx1 - cx0 < 7 || cy1 - cy0 < 7)
                 continue;
             const cv::Mat roi = level(cv::Rect(cx0, cy0, cx1 - cx0, cy1 - cy0));
-            cell.clear();
-            cv::FAST(roi, cell, params_.fast_threshold, true);
-            if (cell.empty())
-                cv::FAST(roi, cell, params_.min_fast_threshold, true);
-            // Highest response first; ties by position so the order is deterministic.
-            std::sort(cell.begin(), cell.end(),
-                      [](const cv::KeyPoint& a, const cv::KeyPoint& b)
-                      {
-                          if (a.response != b.response)
-                              return a.response > b.response;
-                          return a.pt.y != b.pt.y ? a.pt.y < b.pt.y : a.pt.x < b.pt.x;
-                      });
             int rank = 0, rankLast = 0;
-            for (cv::KeyPoint kp : cell)
+            for (cv::KeyPoint kp :
+                 cellCorners(roi, params_.fast_threshold, params_.min_fast_threshold))
             {
                 kp.pt.x += static_cast<float>(cx0);
                 kp.pt.y += static_cast<float>(cy0);
@@ -143,24 +173,12 @@ void OrbExtractor::detectLevel(const cv::Mat& level, int wanted, const cv::Mat& 
                 if (kp.pt.x >= cx0 + cellW + 3 || kp.pt.y >= cy0 + cellH + 3 ||
                     (c > 0 && kp.pt.x < cx0 + 3) || (r > 0 && kp.pt.y < cy0 + 3))
                     continue;
-                const bool last = inFillLast(kp.pt);
+                const bool last = inFillLast(fill_last, kp.pt, scale, image_size);
                 candidates.push_back({kp, last ? rankLast++ : rank++, last});
             }
         }
     }
-    // Round robin over the cells: every cell's best corner before any cell's second best (and
-    // all of that outside `fill_last` before any corner inside it).
-    std::sort(candidates.begin(), candidates.end(),
-              [](const Ranked& a, const Ranked& b)
-              {
-                  if (a.last != b.last)
-                      return b.last;
-                  if (a.rank != b.rank)
-                      return a.rank < b.rank;
-                  if (a.kp.response != b.kp.response)
-                      return a.kp.response > b.kp.response;
-                  return a.kp.pt.y != b.kp.pt.y ? a.kp.pt.y < b.kp.pt.y : a.kp.pt.x < b.kp.pt.x;
-              });
+    sortRoundRobin(candidates);
     const size_t n = std::min(candidates.size(), static_cast<size_t>(wanted));
     for (size_t i = 0; i < n; ++i)
         out.push_back(candidates[i].kp);
