@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <unordered_set>
 
 #include "smap/features/DescriptorMatcher.h"
@@ -96,6 +97,60 @@ int searchFromLastFrame(Frame& current, const Frame& last, double radius)
     return n;
 }
 
+namespace
+{
+/// Behind a mover: most keypoints around the projection are excluded (weight 0). Such a point
+/// cannot be seen now, and must not count as "visible but not found", or people walking in
+/// front of the background would get its map points culled.
+bool hiddenByMover(const Frame& frame, const Eigen::Vector2d& uv)
+{
+    int excluded = 0, all = 0;
+    for (size_t j :
+         frame.grid.query(static_cast<float>(uv.x()), static_cast<float>(uv.y()), kOccluderRadius))
+    {
+        all++;
+        excluded += frame.usable(j) ? 0 : 1;
+    }
+    return 2 * excluded > all;
+}
+
+/// The best unmatched keypoint for a map point within radius r of its projection (levels
+/// level-1 .. level), when it passes the distance and ratio tests.
+std::optional<size_t> bestLocalMatch(const Frame& frame, const MapPoint& mp,
+                                     const Eigen::Vector2d& uv, double uR, double r, int level)
+{
+    int best = std::numeric_limits<int>::max(), second = best;
+    int bestLevel = -1, secondLevel = -1;
+    size_t bestIdx = 0;
+    for (size_t j : frame.grid.query(static_cast<float>(uv.x()), static_cast<float>(uv.y()),
+                                     static_cast<float>(r), level - 1, level))
+    {
+        if (!frame.usable(j) || alreadyMatched(frame.points[j]))
+            continue;
+        if (frame.features.hasDepth(j) && std::abs(uR - frame.features.rightU[j]) > r)
+            continue;
+        const int d =
+            features::descriptorDistance(mp.descriptor.data(), frame.features.descriptor(j));
+        if (d < best)
+        {
+            second = best;
+            secondLevel = bestLevel;
+            best = d;
+            bestLevel = frame.features.keypoints[j].octave;
+            bestIdx = j;
+        }
+        else if (d < second)
+        {
+            second = d;
+            secondLevel = frame.features.keypoints[j].octave;
+        }
+    }
+    if (best > kDescriptorHigh || (bestLevel == secondLevel && best > 0.8 * second))
+        return std::nullopt;
+    return bestIdx;
+}
+}  // namespace
+
 int searchLocalPoints(Frame& frame, const std::vector<std::shared_ptr<MapPoint>>& points,
                       double radius)
 {
@@ -103,22 +158,6 @@ int searchLocalPoints(Frame& frame, const std::vector<std::shared_ptr<MapPoint>>
     const auto& pyr = frame.features.pyramid;
     const bool anyExcluded =
         std::any_of(frame.weights.begin(), frame.weights.end(), [](float w) { return w <= 0.0F; });
-    // Behind a mover: most keypoints around the projection are excluded (weight 0). Such a
-    // point cannot be seen now, and must not count as "visible but not found", or people
-    // walking in front of the background would get its map points culled.
-    auto hiddenByMover = [&](const Eigen::Vector2d& uv)
-    {
-        if (!anyExcluded)
-            return false;
-        int excluded = 0, all = 0;
-        for (size_t j : frame.grid.query(static_cast<float>(uv.x()), static_cast<float>(uv.y()),
-                                         kOccluderRadius))
-        {
-            all++;
-            excluded += frame.usable(j) ? 0 : 1;
-        }
-        return 2 * excluded > all;
-    };
     int n = 0;
     for (const auto& mp : points)
     {
@@ -133,47 +172,19 @@ int searchLocalPoints(Frame& frame, const std::vector<std::shared_ptr<MapPoint>>
         if (dist < mp->minDistance() || dist > mp->maxDistance())
             continue;
         const double viewCos = ray.dot(mp->normal()) / dist;
-        if (viewCos < 0.5 || hiddenByMover(uv))
+        if (viewCos < 0.5 || (anyExcluded && hiddenByMover(frame, uv)))
             continue;
         mp->increaseVisible();
         const int level = mp->predictLevel(dist, pyr);
         const double r =
             radius * (viewCos > 0.998 ? 2.5 : 4.0) * pyr.scale[static_cast<size_t>(level)];
-        const double uR = uv.x() - frame.bf / pc.z();
-        int best = std::numeric_limits<int>::max(), second = best;
-        int bestLevel = -1, secondLevel = -1;
-        size_t bestIdx = 0;
-        for (size_t j : frame.grid.query(static_cast<float>(uv.x()), static_cast<float>(uv.y()),
-                                         static_cast<float>(r), level - 1, level))
-        {
-            if (!frame.usable(j) || alreadyMatched(frame.points[j]))
-                continue;
-            if (frame.features.hasDepth(j) && std::abs(uR - frame.features.rightU[j]) > r)
-                continue;
-            const int d =
-                features::descriptorDistance(mp->descriptor.data(), frame.features.descriptor(j));
-            if (d < best)
-            {
-                second = best;
-                secondLevel = bestLevel;
-                best = d;
-                bestLevel = frame.features.keypoints[j].octave;
-                bestIdx = j;
-            }
-            else if (d < second)
-            {
-                second = d;
-                secondLevel = frame.features.keypoints[j].octave;
-            }
-        }
-        if (best > kDescriptorHigh)
+        const auto match = bestLocalMatch(frame, *mp, uv, uv.x() - frame.bf / pc.z(), r, level);
+        if (!match)
             continue;
-        if (bestLevel == secondLevel && best > 0.8 * second)
-            continue;
-        if (!frame.points[bestIdx])
+        if (!frame.points[*match])
             n++;
-        frame.points[bestIdx] = mp;
-        frame.outlier[bestIdx] = false;
+        frame.points[*match] = mp;
+        frame.outlier[*match] = false;
     }
     return n;
 }
