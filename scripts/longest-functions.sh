@@ -33,9 +33,9 @@ table=$(ctags --languages=C++ --c++-kinds=f --fields=+neKZ --extras=+q -x \
                  printf "%d %s:%d %s\n", $2 - $1 + 1, $3, $1, name }' |
         sort -u | sort -k1,1nr -k2,2)
 
-echo "${table}" | head -n "${top}" | awk '{ printf "%5d  %-55s %s\n", $1, $2, $3 }'
+awk -v n="${top}" 'NR <= n { printf "%5d  %-55s %s\n", $1, $2, $3 }' <<<"${table}"
 if [ -n "${max}" ]; then
-    over=$(echo "${table}" | awk -v m="${max}" '$1 > m' | wc -l)
+    over=$(awk -v m="${max}" '$1 > m' <<<"${table}" | wc -l)
     if [ "${over}" -gt 0 ]; then
         echo "longest-functions: ${over} function(s) longer than ${max} lines" >&2
         exit 1

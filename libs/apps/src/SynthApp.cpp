@@ -307,25 +307,8 @@ int SynthApp::run(const std::vector<std::string>& args, std::ostream& out)
     }
     else
     {
-        if (cl.has("config") || cl.has("set") || cl.has("people") || cl.has("people-count") ||
-            cl.has("ground-truth"))
-            throw core::InputError(
-                "--config, --set, --people, --people-count and --ground-truth apply to "
-                "--composite-onto only");
-        sim::GeneratorOptions options;
-        if (const auto size = cl.value("size"))
-            options.camera = cameraOfSize(*size, options.camera);
-        options.preset = *preset;
-        options.seed = static_cast<uint32_t>(seed);
-        options.noiseFreeDepth = cl.has("noise-free");
-        sim::SequenceGenerator generator(options);
-        MRPT_LOG_INFO_FMT("rendering %ld frames of '%s' (seed %ld) into %s", frames,
-                          preset->c_str(), seed, outDir->c_str());
-        sim::SyntheticSequenceWriter writer;
-        writer.setMinLoggingLevel(getMinLoggingLevel());
-        writer.setColourJpegQuality(static_cast<int>(jpeg));
-        writer.write(generator, static_cast<size_t>(frames), *outDir);
-        camera = options.camera;
+        camera = renderPreset(cl, static_cast<size_t>(frames), static_cast<uint32_t>(seed),
+                              static_cast<int>(jpeg), *outDir);
         out << "smap-synth: " << frames << " frames of " << *preset << " in " << *outDir << "\n";
     }
     if (!cl.has("no-rawlog"))
@@ -337,6 +320,30 @@ int SynthApp::run(const std::vector<std::string>& args, std::ostream& out)
         out << "contact sheet: " << sheet << "\n";
     }
     return kExitOk;
+}
+
+core::PinholeCamera SynthApp::renderPreset(const CommandLine& cl, size_t frames, uint32_t seed,
+                                           int jpegQuality, const std::string& outDir)
+{
+    if (cl.has("config") || cl.has("set") || cl.has("people") || cl.has("people-count") ||
+        cl.has("ground-truth"))
+        throw core::InputError(
+            "--config, --set, --people, --people-count and --ground-truth apply to "
+            "--composite-onto only");
+    sim::GeneratorOptions options;
+    if (const auto size = cl.value("size"))
+        options.camera = cameraOfSize(*size, options.camera);
+    options.preset = *cl.value("preset");
+    options.seed = seed;
+    options.noiseFreeDepth = cl.has("noise-free");
+    sim::SequenceGenerator generator(options);
+    MRPT_LOG_INFO_FMT("rendering %zu frames of '%s' (seed %u) into %s", frames,
+                      options.preset.c_str(), seed, outDir.c_str());
+    sim::SyntheticSequenceWriter writer;
+    writer.setMinLoggingLevel(getMinLoggingLevel());
+    writer.setColourJpegQuality(jpegQuality);
+    writer.write(generator, frames, outDir);
+    return options.camera;
 }
 
 std::string SynthApp::writeRawlog(const std::string& outDir, const core::PinholeCamera& camera)

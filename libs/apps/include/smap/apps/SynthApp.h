@@ -12,6 +12,8 @@
 
 namespace smap::apps
 {
+class CommandLine;
+
 class SynthApp : public mrpt::system::COutputLogger
 {
 public:
@@ -21,6 +23,9 @@ public:
     static std::string usage();
 
 private:
+    /// A rendered preset (--preset) into outDir; returns its camera.
+    core::PinholeCamera renderPreset(const CommandLine& cl, size_t frames, uint32_t seed,
+                                     int jpegQuality, const std::string& outDir);
     /// OUT/sequence.rawlog from the folder just written; returns its path.
     static std::string writeRawlog(const std::string& outDir, const core::PinholeCamera& camera);
 };
