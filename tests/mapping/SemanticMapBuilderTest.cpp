@@ -51,7 +51,7 @@ TEST(SemanticMapBuilder, ContributionIsTheStaticPixelsInTheCameraFrameThinned)
     p.contribution_voxel = 0.0;
     mapping::SemanticMapBuilder full(p, core::LabelSet::pascalVoc());
     const mrpt::poses::CPose3D T(1.0, 2.0, 3.0, 0.0, 0.0, 0.0);
-    const auto& c = full.add(0, 10.0, wall(), camera(), T);
+    const auto& c = full.add(0, 0, 10.0, wall(), camera(), T);
     // 80 x 60 pixels minus the 10 x 10 dynamic square.
     EXPECT_EQ(c.points_cam.size(), 80u * 60u - 100u);
     for (const auto& pt : c.points_cam)
@@ -67,7 +67,7 @@ TEST(SemanticMapBuilder, ContributionIsTheStaticPixelsInTheCameraFrameThinned)
     // and at 10 cm a 4 x 4-pixel block becomes one point.
     p.contribution_voxel = 0.1;
     mapping::SemanticMapBuilder thin(p, core::LabelSet::pascalVoc());
-    const auto& t = thin.add(0, 10.0, wall(), camera(), T);
+    const auto& t = thin.add(0, 0, 10.0, wall(), camera(), T);
     EXPECT_LT(t.points_cam.size(), c.points_cam.size() / 8);
     EXPECT_GT(t.points_cam.size(), c.points_cam.size() / 32);
     EXPECT_GT(thin.contributionBytes(), t.points_cam.size() * sizeof(maps::SemanticPoint));
@@ -78,8 +78,8 @@ TEST(SemanticMapBuilder, ReanchorMovesTheMapOnlyBeyondTheTolerance)
     mapping::MapBuilderParameters p;
     mapping::SemanticMapBuilder b(p, core::LabelSet::pascalVoc());
     const mrpt::poses::CPose3D T0(0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
-    b.add(0, 1.0, wall(), camera(), T0);
-    b.add(1, 2.0, wall(), camera(), T0);
+    b.add(0, 0, 1.0, wall(), camera(), T0);
+    b.add(1, 1, 2.0, wall(), camera(), T0);
     const size_t before = b.pointsMap().size();
     EXPECT_NEAR(meanZ(b.pointsMap()), 2.0, 1e-3);
 
@@ -137,9 +137,9 @@ TEST(SemanticMapBuilder, PruningDropsPointsWhereLaterKeyframesSawThrough)
         mapping::MapBuilderParameters p;
         p.prune_free_points = prune;
         mapping::SemanticMapBuilder b(p, core::LabelSet::pascalVoc());
-        b.add(0, 0.0, withBox, camera(), mrpt::poses::CPose3D());
+        b.add(0, 0, 0.0, withBox, camera(), mrpt::poses::CPose3D());
         for (uint64_t k = 1; k <= 3; ++k)
-            b.add(k, static_cast<double>(k), bare, camera(), mrpt::poses::CPose3D());
+            b.add(k, k, static_cast<double>(k), bare, camera(), mrpt::poses::CPose3D());
         const size_t boxBefore = nearPoints(b.pointsMap());
         const size_t wallBefore = b.pointsMap().size() - boxBefore;
         ASSERT_GT(boxBefore, 50U);
@@ -170,7 +170,7 @@ TEST(SemanticMapBuilder, ALabelFileOfThirtyClassesKeepsClass25AndItsColour)
     im.dynamicMask.setTo(0);
     mapping::MapBuilderParameters p;
     mapping::SemanticMapBuilder b(p, labels);
-    b.add(0, 1.0, im, camera(), mrpt::poses::CPose3D());
+    b.add(0, 0, 1.0, im, camera(), mrpt::poses::CPose3D());
 
     EXPECT_EQ(b.octoMap().insertionOptions.label_count, 30);
     const auto points = b.pointsMap().points();

@@ -44,6 +44,7 @@ pipeline::KeyFrameJob job(uint64_t k, double z, const std::string& name = "f")
 {
     pipeline::KeyFrameJob j;
     j.keyframe = k;
+    j.frameId = k;
     j.frame.camera.width = 32;
     j.frame.camera.height = 24;
     j.frame.camera.fx = j.frame.camera.fy = 30.0;

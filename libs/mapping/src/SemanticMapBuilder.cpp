@@ -30,13 +30,15 @@ SemanticMapBuilder::SemanticMapBuilder(const MapBuilderParameters& params,
     octoMap_.setLabels(labels);
 }
 
-const KeyFrameContribution& SemanticMapBuilder::add(uint64_t keyframe, double timestamp,
+const KeyFrameContribution& SemanticMapBuilder::add(uint64_t keyframe, uint64_t frameId,
+                                                    double timestamp,
                                                     const maps::BackProjector::Images& images,
                                                     const core::PinholeCamera& camera,
                                                     const mrpt::poses::CPose3D& T_world_cam)
 {
     KeyFrameContribution c;
     c.keyframe = keyframe;
+    c.frameId = frameId;
     c.timestamp = timestamp;
     c.T_world_cam = T_world_cam;
     std::vector<maps::SemanticPoint> cam =

@@ -145,7 +145,7 @@ void KeyFrameWorker::process(KeyFrameJob& job)
     t0 = std::chrono::steady_clock::now();
     {
         std::lock_guard<std::mutex> lock(mapMutex_);
-        builder_.add(job.keyframe, f.timestamp,
+        builder_.add(job.keyframe, job.frameId, f.timestamp,
                      {obs->colour, obs->depth, obs->labels, obs->confidence, obs->dynamicMask},
                      f.camera, job.T_world_cam);
     }

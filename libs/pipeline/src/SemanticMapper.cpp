@@ -64,7 +64,8 @@ SemanticMapper::FrameResult SemanticMapper::track(PreparedFrame frame)
     if (r.tracking.newKeyFrame && slam::hasPose(r.tracking.status))
     {
         KeyFrameJob job;
-        job.keyframe = keyframes_;
+        job.keyframe = r.tracking.keyFrameId.value_or(0);
+        job.frameId = r.tracking.frameId;
         job.frame = std::move(frame.rgbd);
         job.T_world_cam = slam::toCPose3D(r.tracking.T_world_cam);
         job.dynamicPoints = std::move(dynamicPoints);
@@ -82,10 +83,9 @@ mapping::SemanticMapBuilder::ReanchorResult SemanticMapper::finish()
 {
     slam_->finish();
     worker_->finish();
-    // The final pose of every keyframe: its frame's pose through the refined keyframes.
-    std::map<double, mrpt::poses::CPose3D> finalPoses;
-    for (const auto& p : slam_->trajectory())
-        finalPoses.emplace(p.timestamp, p.T_world_cam);
+    // The final pose of every keyframe: its frame's pose through the refined keyframes (also
+    // for a keyframe culled since).
+    const std::map<uint64_t, mrpt::poses::CPose3D> finalPoses = slam_->framePoses();
     mapping::SemanticMapBuilder::ReanchorResult result;
     worker_->withMaps(
         [&](mapping::SemanticMapBuilder& b)
@@ -93,7 +93,7 @@ mapping::SemanticMapBuilder::ReanchorResult SemanticMapper::finish()
             result = b.reanchor(
                 [&](const mapping::KeyFrameContribution& c) -> std::optional<mrpt::poses::CPose3D>
                 {
-                    const auto it = finalPoses.find(c.timestamp);
+                    const auto it = finalPoses.find(c.frameId);
                     if (it == finalPoses.end())
                         return std::nullopt;
                     return it->second;

@@ -111,6 +111,21 @@ core::Trajectory RgbdSlam::trajectory() const
     return out;
 }
 
+std::map<uint64_t, mrpt::poses::CPose3D> RgbdSlam::framePoses() const
+{
+    std::lock_guard<std::mutex> lock(map_->mutex());
+    std::map<uint64_t, mrpt::poses::CPose3D> out;
+    for (const auto& r : tracker_->records())
+    {
+        if (!hasPose(r.status) || !r.reference)
+            continue;
+        const Eigen::Isometry3d T_cam_world =
+            r.T_cam_reference * r.reference->resolvedT_cam_world();
+        out.emplace(r.frameId, toCPose3D(T_cam_world.inverse()));
+    }
+    return out;
+}
+
 core::Trajectory RgbdSlam::keyFrameTrajectory() const
 {
     std::lock_guard<std::mutex> lock(map_->mutex());

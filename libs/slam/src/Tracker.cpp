@@ -72,6 +72,8 @@ TrackingResult Tracker::track(Frame frame)
         record(frame, result);
     }
     result.newKeyFrame = newKf != nullptr;
+    if (newKf)
+        result.keyFrameId = newKf->id();
     last_ = std::move(frame);
     timings_.total_ms = millisecondsSince(t0);
     timings_.matching_ms = std::max(0.0, timings_.total_ms - timings_.optimisation_ms);

@@ -13,7 +13,8 @@ namespace smap::mapping
 {
 struct KeyFrameContribution
 {
-    uint64_t keyframe = 0;  ///< position in keyframe order
+    uint64_t keyframe = 0;  ///< the SLAM keyframe's id (slam::KeyFrame::id())
+    uint64_t frameId = 0;   ///< the tracker's number of the frame it was made from
     double timestamp = 0.0;
     mrpt::poses::CPose3D T_world_cam;             ///< the pose the points were inserted at
     std::vector<maps::SemanticPoint> points_cam;  ///< camera (optical) frame

@@ -29,7 +29,7 @@ public:
     /// Adds keyframe number `keyframe` (ids increase with every call): back-projects the static
     /// pixels of `images` (dynamic mask skipped) in the camera frame, thins them, stores them and
     /// inserts them at T_world_cam. Returns the stored contribution.
-    const KeyFrameContribution& add(uint64_t keyframe, double timestamp,
+    const KeyFrameContribution& add(uint64_t keyframe, uint64_t frameId, double timestamp,
                                     const maps::BackProjector::Images& images,
                                     const core::PinholeCamera& camera,
                                     const mrpt::poses::CPose3D& T_world_cam);

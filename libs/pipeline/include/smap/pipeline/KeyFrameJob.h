@@ -13,7 +13,8 @@ namespace smap::pipeline
 {
 struct KeyFrameJob
 {
-    uint64_t keyframe = 0;  ///< 0, 1, 2... in the order tracking made them
+    uint64_t keyframe = 0;  ///< the SLAM keyframe id (slam::KeyFrame::id())
+    uint64_t frameId = 0;   ///< the tracker's number of the frame it was made from
     core::RgbdFrame frame;
     mrpt::poses::CPose3D T_world_cam;  ///< the tracked pose when the keyframe was made
     /// S of Algorithm 1: the keypoints the dynamic filter flagged, with their depth.

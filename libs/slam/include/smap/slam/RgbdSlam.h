@@ -5,6 +5,7 @@
 
 #include <mrpt/system/COutputLogger.h>
 
+#include <map>
 #include <memory>
 #include <opencv2/core/mat.hpp>
 #include <vector>
@@ -56,6 +57,8 @@ public:
 
     /// Pose of every frame that has one, through its reference keyframe's refined pose.
     core::Trajectory trajectory() const;
+    /// T_world_cam of every frame with a pose, by the tracker's frame number (as trajectory()).
+    std::map<uint64_t, mrpt::poses::CPose3D> framePoses() const;
     /// Current poses of the keyframes that were not culled.
     core::Trajectory keyFrameTrajectory() const;
     const std::vector<Tracker::FrameRecord>& records() const { return tracker_->records(); }

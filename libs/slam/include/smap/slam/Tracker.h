@@ -58,6 +58,7 @@ struct TrackingResult
     int inliers = 0;  ///< map point matches that survived the last pose optimisation
     int keypoints = 0;
     bool newKeyFrame = false;
+    std::optional<uint64_t> keyFrameId;  ///< the new keyframe's id (KeyFrame::id())
     TrackingTimings timings;
     uint64_t frameId = 0;  ///< the tracker's running frame number (0 for the first frame)
     /// When this frame started the map: the earlier frame (not initialised when it came) that
