@@ -130,11 +130,11 @@ int run(int argc, char** argv)
                 if (!res.evaluated)
                     continue;
                 t.push_back(ms);
-                e.push_back(res.egoMotionMilliseconds);
-                w.push_back(res.warpMilliseconds);
-                f.push_back(res.flowMilliseconds);
-                o.push_back(ms - res.egoMotionMilliseconds - res.warpMilliseconds -
-                            res.flowMilliseconds);
+                e.push_back(res.ego_motion_ms);
+                w.push_back(res.warp_ms);
+                f.push_back(res.flow_ms);
+                o.push_back(ms - res.ego_motion_ms - res.warp_ms -
+                            res.flow_ms);
                 d.push_back(static_cast<double>(res.numDynamic()));
             }
             std::printf(

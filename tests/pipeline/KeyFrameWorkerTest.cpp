@@ -88,7 +88,7 @@ TEST(KeyFrameWorker, WaitingQueueMapsEveryKeyframeInOrder)
     EXPECT_EQ(s.keyframes, 5u);
     EXPECT_EQ(s.dropped, 0u);
     EXPECT_GE(s.waits, 1u) << "a 1-keyframe queue behind a 30 ms segmenter fills up";
-    EXPECT_EQ(s.segmentationMs.size(), 5u);
+    EXPECT_EQ(s.segmentation_ms.size(), 5u);
     w->withMaps(
         [](mapping::SemanticMapBuilder& b)
         {

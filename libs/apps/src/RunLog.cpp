@@ -130,7 +130,7 @@ std::string RunLog::framesCsv() const
                mrpt::format("%.3f,%.3f,%.3f,%.3f", t.timings.extraction_ms, t.timings.matching_ms,
                             t.timings.optimisation_ms, t.timings.total_ms) +
                "," + std::to_string(r.result.dynamicKeypoints) + "," +
-               mrpt::format("%.3f,%.3f,\n", r.result.dynamicMs, r.result.queueWaitMs);
+               mrpt::format("%.3f,%.3f,\n", r.result.dynamic_ms, r.result.queue_wait_ms);
     }
     for (; nextSkipped != skipped_.end(); ++nextSkipped)
         csv += skippedCsvRow(*nextSkipped);
@@ -178,8 +178,8 @@ void RunLog::addTimings(core::JsonValue& timings) const
     {
         extraction.push_back(r.result.tracking.timings.extraction_ms);
         tracking.push_back(r.result.tracking.timings.total_ms);
-        dynamic.push_back(r.result.dynamicMs);
-        wait.push_back(r.result.queueWaitMs);
+        dynamic.push_back(r.result.dynamic_ms);
+        wait.push_back(r.result.queue_wait_ms);
     }
     timings.set("feature_extraction", timingJson(extraction))
         .set("dynamic_filter", timingJson(dynamic))

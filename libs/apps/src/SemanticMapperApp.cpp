@@ -363,10 +363,10 @@ core::JsonValue timingSummary(const detail::MapperRun& s)
     s.log.addTimings(timings);
     timings.set("local_mapping_total_s", ms.totalSeconds)
         .set("local_ba_s", ms.baSeconds)
-        .set("segmentation", timingJson(ws.segmentationMs))
-        .set("association", timingJson(ws.associationMs))
-        .set("map_insertion", timingJson(ws.insertionMs))
-        .set("keyframe_outputs", timingJson(ws.observerMs))
+        .set("segmentation", timingJson(ws.segmentation_ms))
+        .set("association", timingJson(ws.association_ms))
+        .set("map_insertion", timingJson(ws.insertion_ms))
+        .set("keyframe_outputs", timingJson(ws.observer_ms))
         .set("frames_done_s", s.trackingWallS)
         .set("finish_s", s.finishS)
         .set("outputs_s", s.outputS)
@@ -533,6 +533,7 @@ void SemanticMapperApp::finishMapping(detail::MapperRun& s)
     const auto tFinish = std::chrono::steady_clock::now();
     s.reanchor = s.mapper->finish();
     s.finishS = core::secondsSince(tFinish);
+    MRPT_LOG_DEBUG_STREAM("time per stage:\n" << s.mapper->profiler().getStatsAsText());
     if (s.annotated)
         s.annotated->commit();
     s.trajectory = s.mapper->trajectory();

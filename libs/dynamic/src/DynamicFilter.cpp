@@ -74,7 +74,7 @@ DynamicResult DynamicFilter::process(const cv::Mat& colour, const cv::Mat& depth
         cv::buildOpticalFlowPyramid(grey, currentPyramid_,
                                     cv::Size(params_.strong_lk_window, params_.strong_lk_window),
                                     params_.strong_lk_levels, true);
-        result.warpMilliseconds = msSinceLap();
+        result.warp_ms = msSinceLap();
     }
     result.evaluated = params_.mode == FilterMode::Off || !history_.empty();
     if (params_.mode != FilterMode::Off && !history_.empty() && features.size() > 0)
@@ -114,7 +114,7 @@ DynamicResult DynamicFilter::process(const cv::Mat& colour, const cv::Mat& depth
         while (history_.size() > keep)
             history_.pop_front();
     }
-    result.milliseconds =
+    result.total_ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return result;
 }
@@ -123,12 +123,12 @@ void DynamicFilter::processPaper(const cv::Mat& grey, const features::FeatureSet
                                  DynamicResult& result) const
 {
     result.egoMotion = estimateEgoMotionFivePoint(reference().features, features, camera, params_);
-    result.egoMotionMilliseconds = lap();
+    result.ego_motion_ms = lap();
     if (!result.egoMotion.valid)
         return;
     const WarpedFrame warped = warpIntoCurrentView(reference().grey, reference().depth, camera,
                                                    result.egoMotion.T_cur_prev);
-    result.warpMilliseconds = lap();
+    result.warp_ms = lap();
     // Flow from the warped previous frame to the current one, started at the current
     // keypoints (distorted pixels: both images are on the distorted grid).
     std::vector<cv::Point2f> from, to;
@@ -140,7 +140,7 @@ void DynamicFilter::processPaper(const cv::Mat& grey, const features::FeatureSet
         warped.grey, grey, from, to, status, err, cv::Size(params_.lk_window, params_.lk_window),
         params_.lk_levels,
         cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 30, 0.01));
-    result.flowMilliseconds = lap();
+    result.flow_ms = lap();
     for (size_t i = 0; i < from.size(); ++i)
     {
         if (status[i] == 0)
@@ -178,7 +178,7 @@ void DynamicFilter::processStrong(const cv::Mat& depth, const features::FeatureS
                                   DynamicResult& result) const
 {
     result.egoMotion = estimateStrongEgoMotion(features, camera);
-    result.egoMotionMilliseconds = lap();
+    result.ego_motion_ms = lap();
     if (!result.egoMotion.valid)
         return;
     // Instead of warping the whole previous image, predict where each current keypoint was in
@@ -190,7 +190,7 @@ void DynamicFilter::processStrong(const cv::Mat& depth, const features::FeatureS
         strong::predictInReference(hypotheses, camera, result.egoMotion.T_cur_prev);
     const strong::FlowTracks tracks = strong::trackIntoReference(
         currentPyramid_, reference().pyramid, features, prediction.pixels, params_);
-    result.flowMilliseconds = lap();
+    result.flow_ms = lap();
     const std::vector<bool> wasDynamic =
         dynamicBefore(tracks.status, tracks.tracked, prediction.pixels);
     for (size_t i = 0; i < wasDynamic.size(); ++i)

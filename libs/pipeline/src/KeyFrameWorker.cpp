@@ -154,15 +154,15 @@ void KeyFrameWorker::process(KeyFrameJob& job)
     t0 = std::chrono::steady_clock::now();
     if (observer_)
         observer_(job, *obs, regions);
-    const double observerMs = core::millisecondsSince(t0);
+    const double observer_ms = core::millisecondsSince(t0);
 
     const auto dynamicPixels = static_cast<size_t>(cv::countNonZero(regions.dynamicMask));
     std::lock_guard<std::mutex> lock(statsMutex_);
     stats_.keyframes++;
-    stats_.segmentationMs.push_back(segMs);
-    stats_.associationMs.push_back(assocMs);
-    stats_.insertionMs.push_back(insertMs);
-    stats_.observerMs.push_back(observerMs);
+    stats_.segmentation_ms.push_back(segMs);
+    stats_.association_ms.push_back(assocMs);
+    stats_.insertion_ms.push_back(insertMs);
+    stats_.observer_ms.push_back(observer_ms);
     stats_.dynamicPixels += dynamicPixels;
     stats_.staticPixels += regions.dynamicMask.total() - dynamicPixels;
     MRPT_LOG_DEBUG_FMT("keyframe %llu (%s): %.1f ms segmentation, %zu dynamic pixels",

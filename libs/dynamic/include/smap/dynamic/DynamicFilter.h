@@ -48,13 +48,13 @@ struct DynamicResult
     /// evidence either way, and weights() is then all 0 so that no map starts from a frame
     /// whose movers are unknown.
     bool evaluated = true;
-    EgoMotion egoMotion;        ///< T_cur_prev: relative to the reference frame, framesBack earlier
-    size_t framesBack = 0;      ///< how many frames back the reference was (0: not evaluated)
-    double tau = 0.0;           ///< the threshold applied (px)
-    double milliseconds = 0.0;  ///< total
-    double egoMotionMilliseconds = 0.0;  ///< matching + five-point RANSAC + scale
-    double warpMilliseconds = 0.0;       ///< paper: the warp; strong: the image pyramid
-    double flowMilliseconds = 0.0;       ///< Lucas-Kanade
+    EgoMotion egoMotion;    ///< T_cur_prev: relative to the reference frame, framesBack earlier
+    size_t framesBack = 0;  ///< how many frames back the reference was (0: not evaluated)
+    double tau = 0.0;       ///< the threshold applied (px)
+    double total_ms = 0.0;  ///< total
+    double ego_motion_ms = 0.0;  ///< matching + five-point RANSAC + scale
+    double warp_ms = 0.0;        ///< paper: the warp; strong: the image pyramid
+    double flow_ms = 0.0;        ///< Lucas-Kanade
 
     /// Tracking weights: 0 for dynamic keypoints (all, when not evaluated), 1 otherwise.
     std::vector<float> weights() const;

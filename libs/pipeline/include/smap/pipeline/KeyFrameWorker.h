@@ -55,7 +55,7 @@ public:
         size_t dropped = 0;    ///< queue full, when_full = drop
         size_t waits = 0;      ///< submissions that found the queue full, when_full = wait
         size_t queueHighWater = 0;
-        std::vector<double> segmentationMs, associationMs, insertionMs, observerMs;
+        std::vector<double> segmentation_ms, association_ms, insertion_ms, observer_ms;
         size_t dynamicPixels = 0, staticPixels = 0;
     };
     /// Copy of the statistics so far.

@@ -9,6 +9,7 @@
 #pragma once
 
 #include <mrpt/system/COutputLogger.h>
+#include <mrpt/system/CTimeLogger.h>
 
 #include <memory>
 #include <optional>
@@ -39,15 +40,15 @@ public:
         core::RgbdFrame rgbd;
         slam::Frame features;
         dynamic::DynamicResult dynamic;
-        double extractionMs = 0.0;
+        double extraction_ms = 0.0;
     };
     struct FrameResult
     {
         slam::TrackingResult tracking;
         size_t dynamicKeypoints = 0;
-        double dynamicMs = 0.0;
+        double dynamic_ms = 0.0;
         bool keyframeDropped = false;  ///< a keyframe the full queue turned away (when_full = drop)
-        double queueWaitMs = 0.0;      ///< time tracking waited for room in the keyframe queue
+        double queue_wait_ms = 0.0;    ///< time tracking waited for room in the keyframe queue
     };
 
     PreparedFrame prepare(const core::RgbdFrame& frame);
@@ -80,6 +81,11 @@ public:
         worker_->withMaps(fn);
     }
     size_t keyframesSubmitted() const { return keyframes_; }
+    /// Every stage's time (MRPT's profiler): per frame "frame.extraction", "frame.dynamic"
+    /// (".ego_motion", ".warp", ".flow"), "frame.tracking" (".optimisation"), "frame.queue_wait";
+    /// per keyframe, after finish(), "keyframe.segmentation", ".association", ".insertion",
+    /// ".outputs".
+    const mrpt::system::CTimeLogger& profiler() const { return profiler_; }
     const SemanticMapperParameters& parameters() const { return params_; }
 
 private:
@@ -88,5 +94,6 @@ private:
     dynamic::DynamicFilter dynamicFilter_;
     std::unique_ptr<KeyFrameWorker> worker_;
     uint64_t keyframes_ = 0;
+    mrpt::system::CTimeLogger profiler_;
 };
 }  // namespace smap::pipeline
