@@ -275,8 +275,16 @@ L.append("  people in the map is measured in docs/mapping.md.")
 L.append("- Runs are deterministic: rerunning the script reproduces Tables II and III exactly; only")
 L.append("  the timings vary with the machine's load.")
 L.append("")
+# The measurement log below the marker (dated findings moved here from the module docs) is
+# kept as it is: only the part above it is generated.
+MARKER = "<!-- measurement log: kept as written by bench/results.sh -->"
+log = ""
+if os.path.exists(out_md):
+    old = open(out_md).read()
+    if MARKER in old:
+        log = old[old.index(MARKER):]
 tmp = out_md + ".tmp"
-open(tmp, "w").write("\n".join(L) + "\n")
+open(tmp, "w").write("\n".join(L) + "\n" + ("\n" + log if log else ""))
 os.replace(tmp, out_md)
 print("wrote", out_md)
 PY

@@ -59,10 +59,9 @@ struct DynamicResult
     /// Tracking weights: 0 for dynamic keypoints (all, when not evaluated), 1 otherwise.
     std::vector<float> weights() const;
     /// Which keypoints may start new map points: those judged static on a measured residual
-    /// (a keypoint Lucas-Kanade lost has no evidence of being static; on 7-Scenes with people
-    /// 28 % of the missed people keypoints of frames 700-740 are such, against 4.5 % of the
-    /// static ones). Empty (all may) when no residual was measured at all (mode off, first
-    /// frame, failed ego-motion).
+    /// (a keypoint Lucas-Kanade lost has no evidence of being static, and lost tracks are
+    /// far more common on people than on the background). Empty (all may) when no residual
+    /// was measured at all (mode off, first frame, failed ego-motion).
     std::vector<bool> mappable() const;
     size_t numDynamic() const;
 };
