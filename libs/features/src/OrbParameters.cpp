@@ -4,18 +4,26 @@
 #include <mrpt/core/format.h>
 
 #include "smap/core/InputError.h"
+#include "smap/core/OptionFields.h"
 
 namespace smap::features
 {
-void OrbParameters::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string&)
+core::OptionFields OrbParameters::fields(const std::string& section)
 {
-    const std::string s = "orb";
-    n_features = cfg.read_int(s, "n_features", n_features);
-    scale_factor = cfg.read_double(s, "scale_factor", scale_factor);
-    n_levels = cfg.read_int(s, "n_levels", n_levels);
-    fast_threshold = cfg.read_int(s, "fast_threshold", fast_threshold);
-    min_fast_threshold = cfg.read_int(s, "min_fast_threshold", min_fast_threshold);
-    cell_size = cfg.read_int(s, "cell_size", cell_size);
+    core::OptionFields f(section, "orb");
+    f.add("n_features", n_features)
+        .add("scale_factor", scale_factor)
+        .add("n_levels", n_levels)
+        .add("fast_threshold", fast_threshold)
+        .add("min_fast_threshold", min_fast_threshold)
+        .add("cell_size", cell_size);
+    return f;
+}
+
+void OrbParameters::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
+                                       const std::string& section)
+{
+    fields(section).load(cfg);
     if (n_features < 50)
         throw core::InputError(mrpt::format("[orb] n_features = %d must be >= 50", n_features));
     if (!(scale_factor > 1.0 && scale_factor < 2.0))
@@ -31,14 +39,10 @@ void OrbParameters::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
         throw core::InputError(mrpt::format("[orb] cell_size = %d must be >= 10", cell_size));
 }
 
-void OrbParameters::saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string&) const
+void OrbParameters::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
+                                     const std::string& section) const
 {
-    const std::string s = "orb";
-    cfg.write(s, "n_features", n_features);
-    cfg.write(s, "scale_factor", scale_factor);
-    cfg.write(s, "n_levels", n_levels);
-    cfg.write(s, "fast_threshold", fast_threshold);
-    cfg.write(s, "min_fast_threshold", min_fast_threshold);
-    cfg.write(s, "cell_size", cell_size);
+    // Saving only reads the fields the list points at.
+    const_cast<OrbParameters*>(this)->fields(section).save(cfg);
 }
 }  // namespace smap::features

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "smap/core/InputError.h"
+#include "smap/core/OptionFields.h"
 
 namespace smap::mapping
 {
@@ -62,16 +63,22 @@ int growAlongDepth(cv::Mat& mask, const cv::Mat& depth, int steps, float toleran
 }
 }  // namespace
 
-void DynamicRegionParameters::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
-                                                 const std::string&)
+core::OptionFields DynamicRegionParameters::fields(const std::string& section)
 {
-    const char* s = "association";
-    num_points = cfg.read_int(s, "num_points", num_points);
-    depth_tolerance = cfg.read_double(s, "depth_tolerance", depth_tolerance);
-    pixel_radius = cfg.read_double(s, "pixel_radius", pixel_radius);
-    non_object_classes = cfg.read_string(s, "non_object_classes", non_object_classes);
-    connectivity = cfg.read_int(s, "connectivity", connectivity);
-    grow_pixels = cfg.read_int(s, "grow_pixels", grow_pixels);
+    core::OptionFields f(section, "association");
+    f.add("num_points", num_points)
+        .add("depth_tolerance", depth_tolerance)
+        .add("pixel_radius", pixel_radius)
+        .add("non_object_classes", non_object_classes)
+        .add("connectivity", connectivity)
+        .add("grow_pixels", grow_pixels);
+    return f;
+}
+
+void DynamicRegionParameters::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
+                                                 const std::string& section)
+{
+    fields(section).load(cfg);
     if (num_points < 0)
         throw core::InputError(
             mrpt::format("[association] num_points = %d must be >= 0", num_points));
@@ -88,15 +95,10 @@ void DynamicRegionParameters::loadFromConfigFile(const mrpt::config::CConfigFile
 }
 
 void DynamicRegionParameters::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
-                                               const std::string&) const
+                                               const std::string& section) const
 {
-    const char* s = "association";
-    cfg.write(s, "num_points", num_points);
-    cfg.write(s, "depth_tolerance", depth_tolerance);
-    cfg.write(s, "pixel_radius", pixel_radius);
-    cfg.write(s, "non_object_classes", non_object_classes);
-    cfg.write(s, "connectivity", connectivity);
-    cfg.write(s, "grow_pixels", grow_pixels);
+    // Saving only reads the fields the list points at.
+    const_cast<DynamicRegionParameters*>(this)->fields(section).save(cfg);
 }
 
 DynamicRegionFinder::DynamicRegionFinder(const DynamicRegionParameters& params,

@@ -7,16 +7,21 @@
 #include <opencv2/core.hpp>
 
 #include "smap/core/InputError.h"
+#include "smap/core/OptionFields.h"
 
 namespace smap::maps
 {
-void BackProjectionParameters::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
-                                                  const std::string&)
+core::OptionFields BackProjectionParameters::fields(const std::string& section)
 {
-    const char* s = "backprojection";
-    min_depth = cfg.read_double(s, "min_depth", min_depth);
-    max_depth = cfg.read_double(s, "max_depth", max_depth);
-    stride = cfg.read_int(s, "stride", stride);
+    core::OptionFields f(section, "backprojection");
+    f.add("min_depth", min_depth).add("max_depth", max_depth).add("stride", stride);
+    return f;
+}
+
+void BackProjectionParameters::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
+                                                  const std::string& section)
+{
+    fields(section).load(cfg);
     if (!(min_depth >= 0.0 && max_depth > min_depth))
         throw core::InputError(mrpt::format(
             "[backprojection] need 0 <= min_depth (%g) < max_depth (%g)", min_depth, max_depth));
@@ -26,12 +31,10 @@ void BackProjectionParameters::loadFromConfigFile(const mrpt::config::CConfigFil
 }
 
 void BackProjectionParameters::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
-                                                const std::string&) const
+                                                const std::string& section) const
 {
-    const char* s = "backprojection";
-    cfg.write(s, "min_depth", min_depth);
-    cfg.write(s, "max_depth", max_depth);
-    cfg.write(s, "stride", stride);
+    // Saving only reads the fields the list points at.
+    const_cast<BackProjectionParameters*>(this)->fields(section).save(cfg);
 }
 
 BackProjector::BackProjector(const BackProjectionParameters& params) : params_(params) {}

@@ -10,23 +10,30 @@
 #include <sstream>
 
 #include "smap/core/InputError.h"
+#include "smap/core/OptionFields.h"
 #include "smap/segmentation/PermutohedralLattice.h"
 
 namespace smap::segmentation
 {
-void DenseCrfParameters::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
-                                            const std::string&)
+core::OptionFields DenseCrfParameters::fields(const std::string& section)
 {
-    const char* s = "crf";
-    enabled = cfg.read_bool(s, "enabled", enabled);
-    iterations = cfg.read_int(s, "iterations", iterations);
-    appearance_weight = cfg.read_double(s, "appearance_weight", appearance_weight);
-    appearance_xy = cfg.read_double(s, "appearance_xy", appearance_xy);
-    appearance_rgb = cfg.read_double(s, "appearance_rgb", appearance_rgb);
-    smoothness_weight = cfg.read_double(s, "smoothness_weight", smoothness_weight);
-    smoothness_xy = cfg.read_double(s, "smoothness_xy", smoothness_xy);
-    compatibility = cfg.read_string(s, "compatibility", compatibility);
-    probability_floor = cfg.read_double(s, "probability_floor", probability_floor);
+    core::OptionFields f(section, "crf");
+    f.add("enabled", enabled)
+        .add("iterations", iterations)
+        .add("appearance_weight", appearance_weight)
+        .add("appearance_xy", appearance_xy)
+        .add("appearance_rgb", appearance_rgb)
+        .add("smoothness_weight", smoothness_weight)
+        .add("smoothness_xy", smoothness_xy)
+        .add("compatibility", compatibility)
+        .add("probability_floor", probability_floor);
+    return f;
+}
+
+void DenseCrfParameters::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
+                                            const std::string& section)
+{
+    fields(section).load(cfg);
     if (iterations < 0 || iterations > 100)
         throw core::InputError(
             mrpt::format("[crf] iterations = %d must be in [0, 100]", iterations));
@@ -44,18 +51,10 @@ void DenseCrfParameters::loadFromConfigFile(const mrpt::config::CConfigFileBase&
 }
 
 void DenseCrfParameters::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
-                                          const std::string&) const
+                                          const std::string& section) const
 {
-    const char* s = "crf";
-    cfg.write(s, "enabled", enabled);
-    cfg.write(s, "iterations", iterations);
-    cfg.write(s, "appearance_weight", appearance_weight);
-    cfg.write(s, "appearance_xy", appearance_xy);
-    cfg.write(s, "appearance_rgb", appearance_rgb);
-    cfg.write(s, "smoothness_weight", smoothness_weight);
-    cfg.write(s, "smoothness_xy", smoothness_xy);
-    cfg.write(s, "compatibility", compatibility);
-    cfg.write(s, "probability_floor", probability_floor);
+    // Saving only reads the fields the list points at.
+    const_cast<DenseCrfParameters*>(this)->fields(section).save(cfg);
 }
 
 DenseCrf::DenseCrf(const DenseCrfParameters& params, int labelCount)

@@ -10,21 +10,28 @@
 #include <vector>
 
 #include "smap/core/InputError.h"
+#include "smap/core/OptionFields.h"
 
 namespace fs = std::filesystem;
 
 namespace smap::segmentation
 {
-void LabelImageParameters::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
-                                              const std::string&)
+core::OptionFields LabelImageParameters::fields(const std::string& section)
 {
-    const char* s = "label_images";
-    folder = cfg.read_string(s, "folder", folder);
-    match = cfg.read_string(s, "match", match);
-    max_dt = cfg.read_double(s, "max_dt", max_dt);
-    confidence = cfg.read_double(s, "confidence", confidence);
-    confidence_folder = cfg.read_string(s, "confidence_folder", confidence_folder);
-    kind = cfg.read_string(s, "kind", kind);
+    core::OptionFields f(section, "label_images");
+    f.add("folder", folder)
+        .add("match", match)
+        .add("max_dt", max_dt)
+        .add("confidence", confidence)
+        .add("confidence_folder", confidence_folder)
+        .add("kind", kind);
+    return f;
+}
+
+void LabelImageParameters::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
+                                              const std::string& section)
+{
+    fields(section).load(cfg);
     if (kind != "labels" && kind != "probabilities")
         throw core::InputError("[label_images] kind = '" + kind +
                                "' is not one of: labels, probabilities");
@@ -39,15 +46,10 @@ void LabelImageParameters::loadFromConfigFile(const mrpt::config::CConfigFileBas
 }
 
 void LabelImageParameters::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
-                                            const std::string&) const
+                                            const std::string& section) const
 {
-    const char* s = "label_images";
-    cfg.write(s, "folder", folder);
-    cfg.write(s, "match", match);
-    cfg.write(s, "max_dt", max_dt);
-    cfg.write(s, "confidence", confidence);
-    cfg.write(s, "confidence_folder", confidence_folder);
-    cfg.write(s, "kind", kind);
+    // Saving only reads the fields the list points at.
+    const_cast<LabelImageParameters*>(this)->fields(section).save(cfg);
 }
 
 LabelImageSegmenter::LabelImageSegmenter(const LabelImageParameters& params, core::LabelSet labels)

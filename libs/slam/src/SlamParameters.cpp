@@ -4,6 +4,7 @@
 #include <mrpt/core/format.h>
 
 #include "smap/core/InputError.h"
+#include "smap/core/OptionFields.h"
 
 namespace smap::slam
 {
@@ -16,32 +17,37 @@ void requirePositive(double v, const char* section, const char* key)
 }
 }  // namespace
 
+core::OptionFields TrackerParameters::fields(const std::string& section)
+{
+    core::OptionFields f(section, "tracking");
+    f.add("virtual_baseline", virtual_baseline)
+        .add("close_depth", close_depth)
+        .add("min_depth", min_depth)
+        .add("max_depth", max_depth)
+        .add("depth_edge_ratio", depth_edge_ratio)
+        .add("init_min_points", init_min_points)
+        .add("motion_search_radius", motion_search_radius)
+        .add("local_search_radius", local_search_radius)
+        .add("min_matches_motion", min_matches_motion)
+        .add("min_inliers", min_inliers)
+        .add("min_inliers_after_relocalisation", min_inliers_after_relocalisation)
+        .add("keyframe_max_frames", keyframe_max_frames)
+        .add("keyframe_min_frames", keyframe_min_frames)
+        .add("keyframe_ref_ratio", keyframe_ref_ratio)
+        .add("revisit_radius", revisit_radius)
+        .add("relocalisation_candidates", relocalisation_candidates)
+        .add("reanchor_after", reanchor_after)
+        .add("fallback_weight", fallback_weight)
+        .add("optimisation_rounds", optimisation_rounds)
+        .add("optimisation_iterations", optimisation_iterations);
+    return f;
+}
+
 void TrackerParameters::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
-                                           const std::string&)
+                                           const std::string& section)
 {
     const char* s = "tracking";
-    virtual_baseline = cfg.read_double(s, "virtual_baseline", virtual_baseline);
-    close_depth = cfg.read_double(s, "close_depth", close_depth);
-    min_depth = cfg.read_double(s, "min_depth", min_depth);
-    max_depth = cfg.read_double(s, "max_depth", max_depth);
-    depth_edge_ratio = cfg.read_double(s, "depth_edge_ratio", depth_edge_ratio);
-    init_min_points = cfg.read_int(s, "init_min_points", init_min_points);
-    motion_search_radius = cfg.read_double(s, "motion_search_radius", motion_search_radius);
-    local_search_radius = cfg.read_double(s, "local_search_radius", local_search_radius);
-    min_matches_motion = cfg.read_int(s, "min_matches_motion", min_matches_motion);
-    min_inliers = cfg.read_int(s, "min_inliers", min_inliers);
-    min_inliers_after_relocalisation =
-        cfg.read_int(s, "min_inliers_after_relocalisation", min_inliers_after_relocalisation);
-    keyframe_max_frames = cfg.read_int(s, "keyframe_max_frames", keyframe_max_frames);
-    keyframe_min_frames = cfg.read_int(s, "keyframe_min_frames", keyframe_min_frames);
-    keyframe_ref_ratio = cfg.read_double(s, "keyframe_ref_ratio", keyframe_ref_ratio);
-    revisit_radius = cfg.read_double(s, "revisit_radius", revisit_radius);
-    relocalisation_candidates =
-        cfg.read_int(s, "relocalisation_candidates", relocalisation_candidates);
-    reanchor_after = cfg.read_int(s, "reanchor_after", reanchor_after);
-    fallback_weight = cfg.read_double(s, "fallback_weight", fallback_weight);
-    optimisation_rounds = cfg.read_int(s, "optimisation_rounds", optimisation_rounds);
-    optimisation_iterations = cfg.read_int(s, "optimisation_iterations", optimisation_iterations);
+    fields(section).load(cfg);
 
     requirePositive(virtual_baseline, s, "virtual_baseline");
     requirePositive(close_depth, s, "close_depth");
@@ -75,43 +81,31 @@ void TrackerParameters::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
 }
 
 void TrackerParameters::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
-                                         const std::string&) const
+                                         const std::string& section) const
 {
-    const char* s = "tracking";
-    cfg.write(s, "virtual_baseline", virtual_baseline);
-    cfg.write(s, "close_depth", close_depth);
-    cfg.write(s, "min_depth", min_depth);
-    cfg.write(s, "max_depth", max_depth);
-    cfg.write(s, "depth_edge_ratio", depth_edge_ratio);
-    cfg.write(s, "init_min_points", init_min_points);
-    cfg.write(s, "motion_search_radius", motion_search_radius);
-    cfg.write(s, "local_search_radius", local_search_radius);
-    cfg.write(s, "min_matches_motion", min_matches_motion);
-    cfg.write(s, "min_inliers", min_inliers);
-    cfg.write(s, "min_inliers_after_relocalisation", min_inliers_after_relocalisation);
-    cfg.write(s, "keyframe_max_frames", keyframe_max_frames);
-    cfg.write(s, "keyframe_min_frames", keyframe_min_frames);
-    cfg.write(s, "keyframe_ref_ratio", keyframe_ref_ratio);
-    cfg.write(s, "revisit_radius", revisit_radius);
-    cfg.write(s, "relocalisation_candidates", relocalisation_candidates);
-    cfg.write(s, "reanchor_after", reanchor_after);
-    cfg.write(s, "fallback_weight", fallback_weight);
-    cfg.write(s, "optimisation_rounds", optimisation_rounds);
-    cfg.write(s, "optimisation_iterations", optimisation_iterations);
+    // Saving only reads the fields the list points at.
+    const_cast<TrackerParameters*>(this)->fields(section).save(cfg);
+}
+
+core::OptionFields LocalMappingParameters::fields(const std::string& section)
+{
+    core::OptionFields f(section, "local_mapping");
+    f.add("threaded", threaded)
+        .add("ba_max_keyframes", ba_max_keyframes)
+        .add("ba_iterations", ba_iterations)
+        .add("ba_refine_iterations", ba_refine_iterations)
+        .add("global_ba_iterations", global_ba_iterations)
+        .add("covisibility_min_weight", covisibility_min_weight)
+        .add("fuse_neighbours", fuse_neighbours)
+        .add("keyframe_redundancy", keyframe_redundancy);
+    return f;
 }
 
 void LocalMappingParameters::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
-                                                const std::string&)
+                                                const std::string& section)
 {
     const char* s = "local_mapping";
-    threaded = cfg.read_bool(s, "threaded", threaded);
-    ba_max_keyframes = cfg.read_int(s, "ba_max_keyframes", ba_max_keyframes);
-    ba_iterations = cfg.read_int(s, "ba_iterations", ba_iterations);
-    ba_refine_iterations = cfg.read_int(s, "ba_refine_iterations", ba_refine_iterations);
-    global_ba_iterations = cfg.read_int(s, "global_ba_iterations", global_ba_iterations);
-    covisibility_min_weight = cfg.read_int(s, "covisibility_min_weight", covisibility_min_weight);
-    fuse_neighbours = cfg.read_int(s, "fuse_neighbours", fuse_neighbours);
-    keyframe_redundancy = cfg.read_double(s, "keyframe_redundancy", keyframe_redundancy);
+    fields(section).load(cfg);
     if (ba_iterations < 0 || ba_refine_iterations < 0)
         throw core::InputError(mrpt::format(
             "[local_mapping] ba_iterations = %d and ba_refine_iterations = %d must be >= 0",
@@ -132,16 +126,9 @@ void LocalMappingParameters::loadFromConfigFile(const mrpt::config::CConfigFileB
 }
 
 void LocalMappingParameters::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
-                                              const std::string&) const
+                                              const std::string& section) const
 {
-    const char* s = "local_mapping";
-    cfg.write(s, "threaded", threaded);
-    cfg.write(s, "ba_max_keyframes", ba_max_keyframes);
-    cfg.write(s, "ba_iterations", ba_iterations);
-    cfg.write(s, "ba_refine_iterations", ba_refine_iterations);
-    cfg.write(s, "global_ba_iterations", global_ba_iterations);
-    cfg.write(s, "covisibility_min_weight", covisibility_min_weight);
-    cfg.write(s, "fuse_neighbours", fuse_neighbours);
-    cfg.write(s, "keyframe_redundancy", keyframe_redundancy);
+    // Saving only reads the fields the list points at.
+    const_cast<LocalMappingParameters*>(this)->fields(section).save(cfg);
 }
 }  // namespace smap::slam

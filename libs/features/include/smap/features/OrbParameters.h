@@ -3,6 +3,8 @@
 
 #include <mrpt/config/CLoadableOptions.h>
 
+#include "smap/core/OptionFields.h"
+
 namespace smap::features
 {
 struct OrbParameters : public mrpt::config::CLoadableOptions
@@ -18,5 +20,7 @@ struct OrbParameters : public mrpt::config::CLoadableOptions
                             const std::string& section) override;
     void saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
                           const std::string& section) const override;
+    /// Every key of the section (default [orb]), listed once for loading and saving.
+    core::OptionFields fields(const std::string& section);
 };
 }  // namespace smap::features

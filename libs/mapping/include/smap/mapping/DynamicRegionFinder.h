@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "smap/core/LabelSet.h"
+#include "smap/core/OptionFields.h"
 
 namespace smap::mapping
 {
@@ -40,6 +41,8 @@ struct DynamicRegionParameters : public mrpt::config::CLoadableOptions
                             const std::string& section) override;
     void saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
                           const std::string& section) const override;
+    /// Every key of the section (default [association]), listed once for loading and saving.
+    core::OptionFields fields(const std::string& section);
 };
 
 /// A dynamic feature point of the keyframe: pixel position and depth (m; <= 0: unknown, then

@@ -11,6 +11,7 @@
 #include <opencv2/core/mat.hpp>
 #include <vector>
 
+#include "smap/core/OptionFields.h"
 #include "smap/core/PinholeCamera.h"
 
 namespace smap::maps
@@ -26,6 +27,8 @@ struct BackProjectionParameters : public mrpt::config::CLoadableOptions
                             const std::string& section) override;
     void saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
                           const std::string& section) const override;
+    /// Every key of the section (default [backprojection]), listed once for loading and saving.
+    core::OptionFields fields(const std::string& section);
 };
 
 struct SemanticPoint

@@ -9,6 +9,8 @@
 #include <opencv2/core/mat.hpp>
 #include <string>
 
+#include "smap/core/OptionFields.h"
+
 namespace smap::segmentation
 {
 /// [crf] section. Defaults: the dense-CRF literature's (METHOD.md section 3), except
@@ -36,6 +38,8 @@ struct DenseCrfParameters : public mrpt::config::CLoadableOptions
                             const std::string& section) override;
     void saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
                           const std::string& section) const override;
+    /// Every key of the section (default [crf]), listed once for loading and saving.
+    core::OptionFields fields(const std::string& section);
 };
 
 class DenseCrf

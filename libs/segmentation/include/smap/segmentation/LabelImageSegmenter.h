@@ -9,6 +9,7 @@
 #include <map>
 #include <string>
 
+#include "smap/core/OptionFields.h"
 #include "smap/segmentation/Segmenter.h"
 
 namespace smap::segmentation
@@ -36,6 +37,8 @@ struct LabelImageParameters : public mrpt::config::CLoadableOptions
                             const std::string& section) override;
     void saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
                           const std::string& section) const override;
+    /// Every key of the section (default [label_images]), listed once for loading and saving.
+    core::OptionFields fields(const std::string& section);
 };
 
 class LabelImageSegmenter : public Segmenter

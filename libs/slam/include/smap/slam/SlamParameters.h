@@ -4,6 +4,8 @@
 
 #include <mrpt/config/CLoadableOptions.h>
 
+#include "smap/core/OptionFields.h"
+
 namespace smap::slam
 {
 struct TrackerParameters : public mrpt::config::CLoadableOptions
@@ -53,6 +55,8 @@ struct TrackerParameters : public mrpt::config::CLoadableOptions
                             const std::string& section) override;
     void saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
                           const std::string& section) const override;
+    /// Every key of the section (default [tracking]), listed once for loading and saving.
+    core::OptionFields fields(const std::string& section);
 };
 
 struct LocalMappingParameters : public mrpt::config::CLoadableOptions
@@ -74,5 +78,7 @@ struct LocalMappingParameters : public mrpt::config::CLoadableOptions
                             const std::string& section) override;
     void saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
                           const std::string& section) const override;
+    /// Every key of the section (default [local_mapping]), listed once for loading and saving.
+    core::OptionFields fields(const std::string& section);
 };
 }  // namespace smap::slam
