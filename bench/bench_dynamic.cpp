@@ -133,8 +133,7 @@ int run(int argc, char** argv)
                 e.push_back(res.ego_motion_ms);
                 w.push_back(res.warp_ms);
                 f.push_back(res.flow_ms);
-                o.push_back(ms - res.ego_motion_ms - res.warp_ms -
-                            res.flow_ms);
+                o.push_back(ms - res.ego_motion_ms - res.warp_ms - res.flow_ms);
                 d.push_back(static_cast<double>(res.numDynamic()));
             }
             std::printf(

@@ -633,11 +633,13 @@ void SemanticMapperApp::checkSkippedFraction(const detail::MapperRun& s) const
     const size_t framesRead = s.log.frames() + s.log.skipped();
     if (static_cast<double>(s.log.skipped()) >
         sourceParameters.max_skipped_fraction * static_cast<double>(framesRead))
+    {
         throw core::InputError(mrpt::format(
             "%zu of the %zu frames of '%s' could not be read, more than [input] "
             "max_skipped_fraction = %g: the outputs cover the %zu readable frames, but the "
             "recording is damaged",
             s.log.skipped(), framesRead, options.input.c_str(),
             sourceParameters.max_skipped_fraction, s.log.frames()));
+    }
 }
 }  // namespace smap::apps

@@ -36,14 +36,16 @@ void OptionFields::load(const mrpt::config::CConfigFileBase& cfg) const
                     {
                         if (value == e.get(e.target))
                             current = name;
-                        valid += (valid.empty() ? "" : ", ") + name;
+                        valid.append(valid.empty() ? "" : ", ").append(name);
                     }
                     const std::string text = cfg.read_string(s, f.key, current);
                     for (const auto& [name, value] : names)
                         if (name == text)
                             return e.set(e.target, value);
-                    throw InputError("[" + s + "] " + f.key + " = '" + text +
-                                     "' is not one of: " + valid);
+                    std::string message = "[";
+                    message.append(s).append("] ").append(f.key).append(" = '").append(text);
+                    message.append("' is not one of: ").append(valid);
+                    throw InputError(message);
                 },
             },
             f.target);

@@ -166,8 +166,8 @@ EgoMotion DynamicFilter::estimateStrongEgoMotion(const features::FeatureSet& fea
         prior = lastMotion_;
     else if (!lastMotion_ && history_.size() == 1)
         prior = Eigen::Isometry3d::Identity();
-    const EgoMotion ego = estimateEgoMotionDepthPnp(reference().features, features, camera, params_,
-                                                    false, reference().dynamic, prior);
+    EgoMotion ego = estimateEgoMotionDepthPnp(reference().features, features, camera, params_,
+                                              false, reference().dynamic, prior);
     if (ego.valid)
         return ego;
     return estimateEgoMotionFivePoint(reference().features, features, camera, params_);

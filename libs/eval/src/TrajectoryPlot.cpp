@@ -84,12 +84,16 @@ PlotFrame fitPlotFrame(const AteResult& ate, const std::array<int, 2>& axes, con
 {
     double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
     for (const auto& p : ate.perPose)
+    {
         for (int k = 0; k < 2; k++)
+        {
             for (const auto* v : {&p.gtPosition, &p.estPositionAligned})
             {
                 lo[k] = std::min(lo[k], (*v)[axes[static_cast<size_t>(k)]]);
                 hi[k] = std::max(hi[k], (*v)[axes[static_cast<size_t>(k)]]);
             }
+        }
+    }
     if (ate.perPose.empty())
         lo[0] = lo[1] = -1, hi[0] = hi[1] = 1;
     const double span = std::max({hi[0] - lo[0], (hi[1] - lo[1]) * area.width / area.height, 1e-3});

@@ -186,8 +186,10 @@ std::string TumToRawlogConverter::copyReferences(const std::string& groundTruth,
     for (const auto& reference : referenceTrajectories(groundTruth))
     {
         const std::string name = fs::path(reference).filename().string();
-        const std::string copy = (fs::path(folder) / (stem + "_" + name)).string();
-        writeTumTrajectory(copy, readTumTrajectory(reference), "ground truth from " + reference);
+        const std::string copy =
+            (fs::path(folder) / std::string(stem).append("_").append(name)).string();
+        writeTumTrajectory(copy, readTumTrajectory(reference),
+                           std::string("ground truth from ").append(reference));
         if (reference == groundTruth)
             copied = copy;
     }

@@ -334,12 +334,14 @@ std::vector<int> findNeighbours(const KeyTable& table, int d, bool packable, int
     {
         std::vector<int> nb(static_cast<size_t>(d));
         for (int j = 0; j < d1; j++)
+        {
             for (int sgn = 0; sgn < 2; sgn++)
             {
                 for (int i = 0; i < d; i++)
                     nb[static_cast<size_t>(i)] = offset(i, j, sgn);
                 step[static_cast<size_t>(j) * 2 + sgn] = table.packedOffset(nb.data());
             }
+        }
     }
     cv::parallel_for_(
         cv::Range(0, m),
@@ -347,7 +349,9 @@ std::vector<int> findNeighbours(const KeyTable& table, int d, bool packable, int
         {
             std::vector<int> nbKey(static_cast<size_t>(d));
             for (int v = range.start; v < range.end; v++)
+            {
                 for (int j = 0; j < d1; j++)
+                {
                     for (int sgn = 0; sgn < 2; sgn++)
                     {
                         int& out = neighbours[(static_cast<size_t>(v) * d1 + j) * 2 + sgn];
@@ -362,6 +366,8 @@ std::vector<int> findNeighbours(const KeyTable& table, int d, bool packable, int
                             nbKey[static_cast<size_t>(i)] = k[i] + offset(i, j, sgn);
                         out = table.lookup(nbKey.data());
                     }
+                }
+            }
         },
         stripes);
     return neighbours;

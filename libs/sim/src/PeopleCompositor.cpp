@@ -58,12 +58,14 @@ std::vector<Eigen::Vector3d> probeWorldPoints(const Probes& probes)
         const Eigen::Matrix3d R = rotation(pr.T_world_cam);
         const Eigen::Vector3d c = translation(pr.T_world_cam);
         for (int v = 0; v < pr.frame.depth.rows; v += kStep)
+        {
             for (int u = 0; u < pr.frame.depth.cols; u += kStep)
             {
                 const float z = pr.frame.depth.at<float>(v, u);
                 if (z > 0)
                     points.push_back(R * pr.frame.camera.unproject(u, v, z) + c);
             }
+        }
     }
     return points;
 }
@@ -87,8 +89,9 @@ FloorPlane fitFloorPlane(const std::vector<Eigen::Vector3d>& points, const Eigen
     FloorPlane best{prior, prior.dot(points[points.size() / 30]), 0};
     for (int it = 0; it < kIterations; it++)
     {
-        const Eigen::Vector3d a = points[pick(rngPlane)], b = points[pick(rngPlane)],
-                              c = points[pick(rngPlane)];
+        const Eigen::Vector3d& a = points[pick(rngPlane)];
+        const Eigen::Vector3d& b = points[pick(rngPlane)];
+        const Eigen::Vector3d& c = points[pick(rngPlane)];
         Eigen::Vector3d n = (b - a).cross(c - a);
         if (n.norm() < 1e-9)
             continue;
@@ -167,8 +170,10 @@ FreeSpaceCheck collisions(const CompositedPerson& p, const Eigen::Vector3d& up,
 {
     FreeSpaceCheck c;
     for (double x = -p.halfRange; x <= p.halfRange + 1e-9; x += p.halfRange / 4)
+    {
         // From 0.35 m up: rays through lower samples meet the floor just behind them.
         for (double h = 0.35; h < p.height; h += 0.2)
+        {
             for (double a : {-0.2, 0.0, 0.2})
             {
                 const Eigen::Vector3d X =
@@ -178,6 +183,8 @@ FreeSpaceCheck collisions(const CompositedPerson& p, const Eigen::Vector3d& up,
                 c.inside += inside ? 1 : 0;
                 c.unseen += (!inside && !seenFree) ? 1 : 0;
             }
+        }
+    }
     return c;
 }
 

@@ -35,7 +35,7 @@ std::string writeFrameImages(const fs::path& dir, size_t i, const sim::Synthetic
                              int jpegQuality, double depthFactor)
 {
     const std::string name = mrpt::format("%06zu.png", i);
-    const std::string colourName = mrpt::format(jpegQuality > 0 ? "%06zu.jpg" : "%06zu.png", i);
+    std::string colourName = mrpt::format(jpegQuality > 0 ? "%06zu.jpg" : "%06zu.png", i);
     if (!cv::imwrite((dir / "rgb" / colourName).string(), f.rendered.colour,
                      {cv::IMWRITE_JPEG_QUALITY, jpegQuality > 0 ? jpegQuality : 95}))
         throw std::runtime_error("cannot write " + (dir / "rgb" / colourName).string());

@@ -66,7 +66,7 @@ private:
 
     OptionFields& push(const char* key, Target target)
     {
-        fields_.push_back({key, std::move(target)});
+        fields_.push_back({key, target});
         return *this;
     }
 
