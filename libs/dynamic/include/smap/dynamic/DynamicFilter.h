@@ -4,8 +4,7 @@
 #pragma once
 
 #include <Eigen/Geometry>
-#include <deque>
-#include <functional>
+#include <memory>
 #include <opencv2/core/mat.hpp>
 #include <optional>
 #include <utility>
@@ -70,6 +69,9 @@ class DynamicFilter
 {
 public:
     explicit DynamicFilter(const DynamicParameters& params);
+    ~DynamicFilter();
+    DynamicFilter(DynamicFilter&&) noexcept;
+    DynamicFilter& operator=(DynamicFilter&&) noexcept;
 
     /// Classifies the keypoints of a frame (colour BGR or grey, depth in metres, features
     /// with undistorted keypoints and depth) and remembers it as the previous frame. The first
@@ -84,71 +86,20 @@ public:
     /// than half of them dynamic), for the next frame's extraction (OrbExtractor's
     /// `fill_last`). Empty otherwise, and when no cell qualifies.
     cv::Mat moverRegions() const;
-
-    void reset()
-    {
-        history_.clear();
-        lastMotion_.reset();
-    }
+    /// Forgets the frames seen: the next frame is a first frame.
+    void reset();
 
     const DynamicParameters& parameters() const { return params_; }
 
 private:
-    using Stopwatch = std::function<double()>;  ///< milliseconds since its previous call
+    /// The frames kept for comparison and the two modes (PaperMode, StrongMode; private).
+    struct State;
 
-    void processPaper(const cv::Mat& grey, const features::FeatureSet& features,
-                      const core::PinholeCamera& camera, const Stopwatch& lap,
-                      DynamicResult& result) const;
-    EgoMotion estimateStrongEgoMotion(const features::FeatureSet& features,
-                                      const core::PinholeCamera& camera) const;
-    void processStrong(const cv::Mat& depth, const features::FeatureSet& features,
-                       const core::PinholeCamera& camera, const Stopwatch& lap,
-                       DynamicResult& result) const;
-    void decideStrong(const features::FeatureSet& features, DynamicResult& result) const;
-    /// Per current keypoint, whether the reference frame's keypoints around where it was there
-    /// (its Lucas-Kanade track, else its prediction; within the 3 x 3 cells of 8 px) were
-    /// mostly dynamic.
-    std::vector<bool> dynamicBefore(const std::vector<uint8_t>& status,
-                                    const std::vector<cv::Point2f>& tracked,
-                                    const std::vector<cv::Point2f>& predicted) const;
-
-    /// A frame's decisions counted per 8 px cell: where a later frame's keypoint was, the
-    /// 3 x 3 cells around it say whether it was among movers (temporal evidence).
-    struct DecisionCells
-    {
-        static constexpr int kCell = 8;
-        int cols = 0, rows = 0;
-        std::vector<int> all, dynamic;  ///< keypoints and dynamic keypoints per cell, row-major
-
-        static DecisionCells count(const features::FeatureSet& features,
-                                   const std::vector<bool>& dynamic, int width, int height);
-        /// Keypoints and dynamic keypoints in the (2 radius + 1)^2 cells around cell (cx, cy),
-        /// clipped to the grid.
-        std::pair<int, int> around(int cx, int cy, int radius) const;
-    };
-
-    /// A frame kept for comparison with later ones.
-    struct PastFrame
-    {
-        cv::Mat grey;
-        std::vector<cv::Mat> pyramid;  ///< Lucas-Kanade pyramid with derivatives (strong)
-        cv::Mat depth;
-        features::FeatureSet features;
-        /// Its keypoints' decisions (strong; empty when not evaluated): the ego-motion of a
-        /// later frame leaves them out, so that people filling half the view do not pull it.
-        std::vector<bool> dynamic;
-        DecisionCells cells;  ///< `dynamic` per cell (empty with it)
-    };
-    /// The frame the current one is compared with: the previous one (paper), or frame_gap
-    /// frames back (strong; fewer at the start).
-    const PastFrame& reference() const { return history_.front(); }
+    /// Keeps the frame for the next ones (at most `keep`).
+    void remember(const cv::Mat& grey, const cv::Mat& depth, const features::FeatureSet& features,
+                  const DynamicResult& result, size_t keep);
 
     DynamicParameters params_;
-    std::deque<PastFrame> history_;  ///< oldest first, at most frame_gap (paper: 1)
-    std::vector<cv::Mat> currentPyramid_;
-    /// Strong mode: the last evaluated frame's ego-motion and how many frames back its
-    /// reference was; the next frame with the same gap starts from it (constant velocity).
-    std::optional<Eigen::Isometry3d> lastMotion_;
-    size_t lastFramesBack_ = 0;
+    std::unique_ptr<State> state_;
 };
 }  // namespace smap::dynamic
