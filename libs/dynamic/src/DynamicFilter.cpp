@@ -2,17 +2,11 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cmath>
-#include <limits>
-#include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
-#include <opencv2/video/tracking.hpp>
 
 #include "FrameHistory.h"
 #include "PaperMode.h"
 #include "StrongMode.h"
-#include "smap/dynamic/FrameWarp.h"
-#include "smap/features/FeatureGrid.h"
 
 namespace smap::dynamic
 {
