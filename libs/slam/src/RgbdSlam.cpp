@@ -96,33 +96,35 @@ void RgbdSlam::finish()
         globalBa_.outliersRemoved, globalBaSeconds_);
 }
 
-core::Trajectory RgbdSlam::trajectory() const
+void RgbdSlam::forEachFramePose(
+    const std::function<void(const Tracker::FrameRecord&, const mrpt::poses::CPose3D&)>& fn) const
 {
     std::lock_guard<std::mutex> lock(map_->mutex());
-    core::Trajectory out;
     for (const auto& r : tracker_->records())
     {
         if (!hasPose(r.status) || !r.reference)
             continue;
         const Eigen::Isometry3d T_cam_world =
             r.T_cam_reference * r.reference->resolvedT_cam_world();
-        out.push_back({r.timestamp, toCPose3D(T_cam_world.inverse())});
+        fn(r, toCPose3D(T_cam_world.inverse()));
     }
+}
+
+core::Trajectory RgbdSlam::trajectory() const
+{
+    core::Trajectory out;
+    forEachFramePose(
+        [&](const Tracker::FrameRecord& r, const mrpt::poses::CPose3D& T_world_cam) {
+            out.push_back({r.timestamp, T_world_cam});
+        });
     return out;
 }
 
 std::map<uint64_t, mrpt::poses::CPose3D> RgbdSlam::framePoses() const
 {
-    std::lock_guard<std::mutex> lock(map_->mutex());
     std::map<uint64_t, mrpt::poses::CPose3D> out;
-    for (const auto& r : tracker_->records())
-    {
-        if (!hasPose(r.status) || !r.reference)
-            continue;
-        const Eigen::Isometry3d T_cam_world =
-            r.T_cam_reference * r.reference->resolvedT_cam_world();
-        out.emplace(r.frameId, toCPose3D(T_cam_world.inverse()));
-    }
+    forEachFramePose([&](const Tracker::FrameRecord& r, const mrpt::poses::CPose3D& T_world_cam)
+                     { out.emplace(r.frameId, T_world_cam); });
     return out;
 }
 

@@ -5,6 +5,7 @@
 
 #include <mrpt/system/COutputLogger.h>
 
+#include <functional>
 #include <map>
 #include <memory>
 #include <opencv2/core/mat.hpp>
@@ -72,6 +73,10 @@ public:
     LocalMapper::Stats mappingStats() const { return mapper_->stats(); }
 
 private:
+    /// Every frame with a pose and its final T_world_cam (through the refined, possibly culled
+    /// keyframes), in frame order, under the map lock.
+    void forEachFramePose(const std::function<void(const Tracker::FrameRecord&,
+                                                   const mrpt::poses::CPose3D&)>& fn) const;
     features::OrbParameters orbParams_;
     TrackerParameters trackingParams_;
     LocalMappingParameters mappingParams_;
