@@ -30,11 +30,12 @@ struct Scene
     }
 };
 
-/// The paper's Algorithm 1 (our growth of M off): steps 1 and 2 exactly.
+/// The paper's Algorithm 1 (our growth of M and movable classes off): steps 1 and 2 exactly.
 DynamicRegionParameters paper()
 {
     DynamicRegionParameters p;
     p.grow_pixels = 0;
+    p.movable_prior = 2.0;
     return p;
 }
 
@@ -70,6 +71,26 @@ TEST(DynamicRegionFinder, ObjectWithMoreThanNumPointsGoesWhole)
     r = finder.find(s.labels, s.depth, pointsIn({10, 10, 20, 40}, 20, 2.0));
     EXPECT_EQ(r.pixelsFromObjects, 0);
     EXPECT_GT(r.pixelsNearPoints, 0);
+}
+
+TEST(DynamicRegionFinder, APersonStandingStillIsRemovedWholeBeyondThePaper)
+{
+    const Scene s;
+    const core::LabelSet voc = core::LabelSet::pascalVoc();
+    // No dynamic point at all: the paper keeps the person, the default removes it (prior 0.9)
+    // and keeps the chair (prior 0.2).
+    const auto kept = DynamicRegionFinder(paper(), voc).find(s.labels, s.depth, {});
+    EXPECT_EQ(cv::countNonZero(kept.dynamicMask), 0);
+    DynamicRegionParameters p = paper();
+    p.movable_prior = 0.5;
+    const auto r = DynamicRegionFinder(p, voc).find(s.labels, s.depth, {});
+    EXPECT_EQ(cv::countNonZero(r.dynamicMask), 20 * 40);
+    EXPECT_EQ(cv::countNonZero(r.dynamicMask(cv::Rect(10, 10, 20, 40))), 20 * 40);
+    EXPECT_EQ(r.pixelsMovable, 20 * 40);
+    // A chair counts as movable once the bar is below its prior.
+    p.movable_prior = 0.2;
+    EXPECT_EQ(cv::countNonZero(DynamicRegionFinder(p, voc).find(s.labels, s.depth, {}).dynamicMask),
+              20 * 40 + 20 * 20);
 }
 
 TEST(DynamicRegionFinder, DepthDecidesNearObjectEdges)

@@ -112,12 +112,27 @@ void RunLog::addSkipped(const io::SkippedFrame& frame)
     skipped_.push_back(frame);
 }
 
+namespace
+{
+/// movable_keypoints, mask_age (empty: no mask), mask_wait_ms, semantic_ms and the fallback the
+/// tracker took (empty: none).
+std::string semanticCsv(const pipeline::SemanticMapper::FrameResult& r)
+{
+    return std::to_string(r.movableKeypoints) + "," +
+           (r.maskAge ? std::to_string(*r.maskAge) : std::string()) + "," +
+           mrpt::format("%.3f,%.3f,", r.mask_wait_ms, r.semantic_ms) +
+           (r.tracking.raisedWeights ? "raised_weights" : "");
+}
+}  // namespace
+
 std::string RunLog::framesCsv() const
 {
-    std::string csv = pipeline::frameStatsCsvHeader() +
-                      ",status,keypoints,inliers,keyframe,extraction_ms,matching_ms,"
-                      "optimisation_ms,tracking_ms,dynamic_keypoints,dynamic_filter_ms,"
-                      "keyframe_queue_wait_ms,note\n";
+    std::string csv =
+        pipeline::frameStatsCsvHeader() +
+        ",status,keypoints,inliers,keyframe,extraction_ms,matching_ms,"
+        "optimisation_ms,tracking_ms,dynamic_keypoints,dynamic_filter_ms,"
+        "keyframe_queue_wait_ms,movable_keypoints,mask_age,mask_wait_ms,semantic_ms,fallback,"
+        "note\n";
     auto nextSkipped = skipped_.begin();
     for (const auto& r : rows_)
     {
@@ -130,7 +145,8 @@ std::string RunLog::framesCsv() const
                mrpt::format("%.3f,%.3f,%.3f,%.3f", t.timings.extraction_ms, t.timings.matching_ms,
                             t.timings.optimisation_ms, t.timings.total_ms) +
                "," + std::to_string(r.result.dynamicKeypoints) + "," +
-               mrpt::format("%.3f,%.3f,\n", r.result.dynamic_ms, r.result.queue_wait_ms);
+               mrpt::format("%.3f,%.3f,", r.result.dynamic_ms, r.result.queue_wait_ms) +
+               semanticCsv(r.result) + ",\n";
     }
     for (; nextSkipped != skipped_.end(); ++nextSkipped)
         csv += skippedCsvRow(*nextSkipped);

@@ -286,7 +286,8 @@ struct detail::MapperRun
 namespace
 {
 void trackOne(RunLog& log, pipeline::SemanticMapper& mapper, pipeline::FrameFeeder::Item& item,
-              const std::string& input, ProgressReporter& progress)
+              const std::string& input, ProgressReporter& progress,
+              const std::function<void(const pipeline::SemanticMapper::PreparedFrame&)>& inspect)
 {
     if (item.skipped)
     {
@@ -296,7 +297,7 @@ void trackOne(RunLog& log, pipeline::SemanticMapper& mapper, pipeline::FrameFeed
     }
     const double stamp = item.frame.rgbd.timestamp;
     const core::PinholeCamera camera = item.frame.rgbd.camera;
-    log.add(item.stats, stamp, camera, mapper.track(std::move(item.frame)));
+    log.add(item.stats, stamp, camera, mapper.track(std::move(item.frame), inspect));
     progress.update(log.frames(), mrpt::format("%zu keyframes, %zu lost",
                                                mapper.keyframesSubmitted(), log.lost()));
 }
@@ -489,20 +490,24 @@ void SemanticMapperApp::trackAllFrames(detail::MapperRun& s, const InterruptWatc
 {
     const std::string outDir = options.outputDirectory;
     const FrameSelection debugFrames = options.debugFrames;
-    pipeline::FrameFeeder feeder(
-        *s.source, *s.mapper, static_cast<size_t>(parameters.pipeline.frame_queue),
-        [&] { return interrupt.interrupted(); },
-        [outDir, debugFrames](const pipeline::FrameFeeder::Item& item)
-        {
-            if (debugFrames.contains(item.index))
-                writeDynamicDebug(outDir, item.index, item.frame);
-        });
+    pipeline::FrameFeeder feeder(*s.source, *s.mapper,
+                                 static_cast<size_t>(parameters.pipeline.frame_queue),
+                                 [&] { return interrupt.interrupted(); });
     ProgressReporter progress(s.source->sizeHint(), progressStream, *this);
     std::exception_ptr trackError;
     try
     {
         while (auto item = feeder.next())
-            trackOne(s.log, *s.mapper, *item, options.input, progress);
+        {
+            // The dynamic-filter pictures show the verdicts tracking used (with the semantic
+            // evidence).
+            const size_t index = item->index;
+            std::function<void(const pipeline::SemanticMapper::PreparedFrame&)> inspect;
+            if (debugFrames.contains(index))
+                inspect = [&outDir, index](const pipeline::SemanticMapper::PreparedFrame& p)
+                { writeDynamicDebug(outDir, index, p); };
+            trackOne(s.log, *s.mapper, *item, options.input, progress, inspect);
+        }
     }
     catch (...)
     {

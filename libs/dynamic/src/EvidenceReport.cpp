@@ -43,15 +43,16 @@ std::string evidenceCsv(const features::FeatureSet& features, const DynamicResul
     if (!result.evaluated)
         s << "# not evaluated (no previous frame): no decision was made\n";
     s << "u,v,depth_m,residual_px,patch_error,flow,depth_test,region,isolated,was_dynamic,"
-         "dynamic\n";
+         "semantic,dynamic\n";
     for (size_t i = 0; i < features.size() && i < result.keypoints.size(); ++i)
     {
         const auto& e = result.keypoints[i];
         const float z = features.depth.empty() ? 0.0F : features.depth[i];
-        s << mrpt::format("%.2f,%.2f,%.4f,%.3f,%.2f,%d,%d,%d,%d,%d,%d\n",
+        s << mrpt::format("%.2f,%.2f,%.4f,%.3f,%.2f,%d,%d,%d,%d,%d,%d,%d\n",
                           features.keypoints[i].pt.x, features.keypoints[i].pt.y, z, e.residual,
                           e.patchError, e.flow ? 1 : 0, e.depth ? 1 : 0, e.region ? 1 : 0,
-                          e.isolated ? 1 : 0, e.wasDynamic ? 1 : 0, e.dynamic ? 1 : 0);
+                          e.isolated ? 1 : 0, e.wasDynamic ? 1 : 0, e.semantic ? 1 : 0,
+                          e.dynamic ? 1 : 0);
     }
     return s.str();
 }

@@ -80,7 +80,11 @@ void StrongMode::evaluate(const cv::Mat& depth, const features::FeatureSet& feat
     const std::vector<bool> wasDynamic =
         dynamicBefore(reference, tracks.status, tracks.tracked, prediction.pixels);
     for (size_t i = 0; i < wasDynamic.size(); ++i)
+    {
         result.keypoints[i].wasDynamic = wasDynamic[i];
+        if (tracks.status[i] != 0)
+            result.keypoints[i].inReference = tracks.tracked[i];
+    }
     strong::refineEgoMotionOnTracks(hypotheses, tracks,
                                     strong::refinementCandidates(hypotheses, tracks, wasDynamic),
                                     camera, params_, result.egoMotion.T_cur_prev, prediction);

@@ -71,7 +71,8 @@ core::OptionFields DynamicRegionParameters::fields(const std::string& section)
         .add("pixel_radius", pixel_radius)
         .add("non_object_classes", non_object_classes)
         .add("connectivity", connectivity)
-        .add("grow_pixels", grow_pixels);
+        .add("grow_pixels", grow_pixels)
+        .add("movable_prior", movable_prior);
     return f;
 }
 
@@ -89,6 +90,9 @@ void DynamicRegionParameters::loadFromConfigFile(const mrpt::config::CConfigFile
     if (grow_pixels < 0 || grow_pixels > 100)
         throw core::InputError(
             mrpt::format("[association] grow_pixels = %d must be in [0, 100]", grow_pixels));
+    if (!(movable_prior >= 0.0))
+        throw core::InputError(mrpt::format(
+            "[association] movable_prior = %g must be >= 0 (above 1: no class)", movable_prior));
     if (connectivity != 4 && connectivity != 8)
         throw core::InputError(
             mrpt::format("[association] connectivity = %d must be 4 or 8", connectivity));
@@ -113,6 +117,9 @@ DynamicRegionFinder::DynamicRegionFinder(const DynamicRegionParameters& params,
         if (!name.empty())
             nonObject_.insert(labels.idOf(name));
     }
+    for (const auto& l : labels.labels())
+        if (l.dynamicPrior >= params_.movable_prior && !nonObject_.count(l.id))
+            movable_.insert(l.id);
 }
 
 DynamicRegions DynamicRegionFinder::find(const cv::Mat& labels, const cv::Mat& depth,
@@ -163,7 +170,7 @@ void DynamicRegionFinder::findObjects(const cv::Mat& labels, DynamicRegions& r) 
             cv::connectedComponents(labels == label, components, params_.connectivity, CV_32S);
         const int first = static_cast<int>(r.objects.size());
         for (int c = 1; c < n; c++)
-            r.objects.push_back({label, 0, 0, false});
+            r.objects.push_back({label, 0, 0, false, movable_.count(label) > 0});
         for (int v = 0; v < labels.rows; v++)
         {
             const int* comp = components.ptr<int>(v);
@@ -189,17 +196,23 @@ void DynamicRegionFinder::markDynamicObjects(const std::vector<DynamicPoint>& po
             r.objects[static_cast<size_t>(r.objectIds.at<int>(v, u))].dynamicPoints++;
     }
     for (auto& o : r.objects)
-        o.dynamic = o.dynamicPoints > params_.num_points;
+        o.dynamic = o.dynamicPoints > params_.num_points || o.movable;
     for (int v = 0; v < r.objectIds.rows; v++)
     {
         const int* ids = r.objectIds.ptr<int>(v);
         auto* m = r.dynamicMask.ptr<uint8_t>(v);
         for (int u = 0; u < r.objectIds.cols; u++)
-            if (ids[u] >= 0 && r.objects[static_cast<size_t>(ids[u])].dynamic)
+        {
+            if (ids[u] < 0)
+                continue;
+            const ObjectRegion& o = r.objects[static_cast<size_t>(ids[u])];
+            if (o.dynamic)
             {
                 m[u] = 255;
                 r.pixelsFromObjects++;
+                r.pixelsMovable += o.dynamicPoints > params_.num_points ? 0 : 1;
             }
+        }
     }
 }
 

@@ -26,6 +26,26 @@ KeyFrameWorker::~KeyFrameWorker()
     queue_.close();
     if (thread_.joinable())
         thread_.join();
+    if (board_)
+        board_->close();
+}
+
+void KeyFrameWorker::setMaskBoard(MaskBoard* board, std::vector<bool> movable, int sampleStep)
+{
+    board_ = board;
+    movable_ = std::move(movable);
+    maskStep_ = sampleStep;
+}
+
+void KeyFrameWorker::publishMask(const KeyFrameJob& job, const cv::Mat& labels) const
+{
+    if (!board_)
+        return;
+    Eigen::Isometry3d T_world_cam;
+    T_world_cam.matrix() =
+        job.T_world_cam.getHomogeneousMatrixVal<mrpt::math::CMatrixDouble44>().asEigen();
+    board_->publish(std::make_shared<const dynamic::MovableMask>(
+        job.frameId, T_world_cam, labels, job.frame.depth, job.frame.camera, movable_, maskStep_));
 }
 
 std::string KeyFrameWorker::segmenterDescription() const
@@ -57,6 +77,8 @@ void KeyFrameWorker::finish()
     queue_.close();
     if (thread_.joinable())
         thread_.join();
+    if (board_)
+        board_->close();
     std::lock_guard<std::mutex> lock(statsMutex_);
     stats_.queueHighWater = queue_.highWater();
     if (error_)
@@ -93,6 +115,8 @@ void KeyFrameWorker::run()
             }
             // Nothing more is processed; tracking learns of it at its next submission.
             queue_.close();
+            if (board_)
+                board_->close();
             while (queue_.pop())
             {
             }
@@ -127,6 +151,7 @@ void KeyFrameWorker::process(KeyFrameJob& job)
         obs->confidence = cv::Mat(f.colour.size(), CV_32FC1, cv::Scalar(0.0F));
     }
     const double segMs = core::millisecondsSince(t0);
+    publishMask(job, obs->labels);
 
     t0 = std::chrono::steady_clock::now();
     const mapping::DynamicRegions regions = finder_.find(obs->labels, f.depth, job.dynamicPoints);

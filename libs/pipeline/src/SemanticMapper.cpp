@@ -11,6 +11,9 @@ SemanticMapper::SemanticMapper(const SemanticMapperParameters& params)
       params_(params),
       slam_(std::make_unique<slam::RgbdSlam>(params.orb, params.tracking, params.localMapping)),
       dynamicFilter_(params.dynamic),
+      labelTracker_(
+          static_cast<size_t>(params.semanticEvidence.max_mask_age + params.dynamic.frame_gap + 4),
+          params.semanticEvidence.depth_margin),
       profiler_(true, "semantic-mapper")
 {
     profiler_.setMinLoggingLevel(mrpt::system::LVL_ERROR);  // no statistics dump on exit
@@ -18,6 +21,15 @@ SemanticMapper::SemanticMapper(const SemanticMapperParameters& params)
     worker_ = std::make_unique<KeyFrameWorker>(
         std::move(segmenter), segmentation::loadLabelSet(params_.segmentation), params_.association,
         params_.map, static_cast<size_t>(params_.pipeline.keyframe_queue));
+    if (semanticEvidenceOn())
+    {
+        std::vector<bool> movable(worker_->labels().size(), false);
+        for (const auto& l : worker_->labels().labels())
+            movable[static_cast<size_t>(l.id)] =
+                l.dynamicPrior >= params_.semanticEvidence.movable_prior;
+        worker_->setMaskBoard(&maskBoard_, std::move(movable),
+                              params_.semanticEvidence.sample_step);
+    }
 }
 
 SemanticMapper::~SemanticMapper() = default;
@@ -54,9 +66,16 @@ SemanticMapper::PreparedFrame SemanticMapper::prepare(const core::RgbdFrame& fra
     return p;
 }
 
-SemanticMapper::FrameResult SemanticMapper::track(PreparedFrame frame)
+SemanticMapper::FrameResult SemanticMapper::track(
+    PreparedFrame frame, const std::function<void(const PreparedFrame&)>& inspect)
 {
     FrameResult r;
+    const auto t0 = std::chrono::steady_clock::now();
+    applySemanticEvidence(frame, r);
+    r.semantic_ms = core::millisecondsSince(t0);
+    profiler_.registerUserMeasure("frame.semantic", r.semantic_ms / 1000.0, true);
+    if (inspect)
+        inspect(frame);
     r.dynamicKeypoints = frame.dynamic.numDynamic();
     r.dynamic_ms = frame.dynamic.total_ms;
 
@@ -72,23 +91,150 @@ SemanticMapper::FrameResult SemanticMapper::track(PreparedFrame frame)
     profiler_.registerUserMeasure("frame.tracking", r.tracking.timings.total_ms / 1000.0, true);
     profiler_.registerUserMeasure("frame.tracking.optimisation",
                                   r.tracking.timings.optimisation_ms / 1000.0, true);
-    if (r.tracking.newKeyFrame && slam::hasPose(r.tracking.status))
+    if (slam::hasPose(r.tracking.status))
     {
-        KeyFrameJob job;
-        job.keyframe = r.tracking.keyFrameId.value_or(0);
-        job.frameId = r.tracking.frameId;
-        job.frame = std::move(frame.rgbd);
-        job.T_world_cam = slam::toCPose3D(r.tracking.T_world_cam);
-        job.dynamicPoints = std::move(dynamicPoints);
-        const auto t0 = std::chrono::steady_clock::now();
-        const bool queued =
-            worker_->submit(std::move(job), params_.pipeline.when_full == WhenFull::Wait);
-        r.queue_wait_ms = core::millisecondsSince(t0);
-        profiler_.registerUserMeasure("frame.queue_wait", r.queue_wait_ms / 1000.0, true);
-        r.keyframeDropped = !queued;
-        keyframes_ += queued ? 1 : 0;
+        recentPoses_.emplace_back(r.tracking.frameId, r.tracking.T_world_cam);
+        if (recentPoses_.size() > 2)
+            recentPoses_.pop_front();
     }
+    if (r.tracking.newKeyFrame && slam::hasPose(r.tracking.status))
+        submitKeyFrame(frame, std::move(dynamicPoints), r);
+    framesTracked_++;
     return r;
+}
+
+void SemanticMapper::submitKeyFrame(PreparedFrame& frame,
+                                    std::vector<mapping::DynamicPoint> dynamicPoints,
+                                    FrameResult& r)
+{
+    KeyFrameJob job;
+    job.keyframe = r.tracking.keyFrameId.value_or(0);
+    job.frameId = r.tracking.frameId;
+    job.frame = std::move(frame.rgbd);
+    job.T_world_cam = slam::toCPose3D(r.tracking.T_world_cam);
+    job.dynamicPoints = std::move(dynamicPoints);
+    const auto t0 = std::chrono::steady_clock::now();
+    const uint64_t frameId = job.frameId;
+    const bool queued =
+        worker_->submit(std::move(job), params_.pipeline.when_full == WhenFull::Wait);
+    if (queued && semanticEvidenceOn())
+        maskBoard_.expect(frameId);
+    r.queue_wait_ms = core::millisecondsSince(t0);
+    profiler_.registerUserMeasure("frame.queue_wait", r.queue_wait_ms / 1000.0, true);
+    r.keyframeDropped = !queued;
+    keyframes_ += queued ? 1 : 0;
+}
+
+std::optional<Eigen::Isometry3d> SemanticMapper::predictPose(uint64_t frameId) const
+{
+    // Beyond a few frames the last pose says little about this one.
+    constexpr uint64_t kMaxGap = 5;
+    if (recentPoses_.empty() || frameId - recentPoses_.back().first > kMaxGap)
+        return std::nullopt;
+    const auto& [lastId, T_world_last] = recentPoses_.back();
+    if (recentPoses_.size() < 2 || recentPoses_.front().first + 1 != lastId)
+        return T_world_last;
+    const Eigen::Isometry3d velocity = recentPoses_.front().second.inverse() * T_world_last;
+    Eigen::Isometry3d T = T_world_last;
+    for (uint64_t k = lastId; k < frameId; ++k)
+        T = T * velocity;
+    return T;
+}
+
+std::vector<bool> SemanticMapper::movableKeypoints(const PreparedFrame& frame,
+                                                   const MaskBoard::MaskPtr& mask, uint64_t age)
+{
+    // Every frame joins the label tracker, so that labels can follow people from the next mask.
+    const auto& kps = frame.features.features.keypoints;
+    dynamic::MovableLabelTracker::FrameTracks tracks;
+    tracks.frameId = framesTracked_;
+    tracks.framesBack = frame.dynamic.framesBack;
+    tracks.keypoints.reserve(kps.size());
+    tracks.inReference.assign(kps.size(), cv::Point2f(-1.0F, -1.0F));
+    tracks.depth = frame.features.features.depth;
+    for (size_t i = 0; i < kps.size(); ++i)
+    {
+        tracks.keypoints.push_back(kps[i].pt);
+        if (i < frame.dynamic.keypoints.size())
+            tracks.inReference[i] = frame.dynamic.keypoints[i].inReference;
+    }
+    if (mask && (!labelledMask_ || *labelledMask_ != mask->frameId()))
+    {
+        labelTracker_.setMask(mask->frameId(), mask->image());
+        labelledMask_ = mask->frameId();
+    }
+    const std::vector<dynamic::MovableLabelTracker::Label> labels =
+        labelTracker_.add(std::move(tracks));
+    std::vector<bool> movable(kps.size(), false);
+    if (!mask)
+        return movable;
+    // Keypoints whose track reaches no labelled keypoint: the mask warped by the camera pose
+    // (right for people who stand still), within the depth of the people there.
+    const dynamic::SemanticEvidenceParameters& se = params_.semanticEvidence;
+    dynamic::MovableCells cells;
+    const std::optional<Eigen::Isometry3d> T_world_cam = predictPose(framesTracked_);
+    if (T_world_cam && !mask->empty())
+        cells =
+            mask->project(*T_world_cam, frame.rgbd.camera,
+                          std::min(se.max_dilation_px,
+                                   se.dilation_px + se.age_dilation_px * static_cast<double>(age)));
+    const slam::Frame& f = frame.features;
+    const auto margin = static_cast<float>(se.depth_margin);
+    for (size_t i = 0; i < kps.size(); ++i)
+    {
+        if (labels[i] == dynamic::MovableLabelTracker::Label::Unknown)
+            movable[i] = cells.contains(f.features.undistorted[i].x, f.features.undistorted[i].y,
+                                        f.features.depth[i], margin);
+        else
+            movable[i] = labels[i] == dynamic::MovableLabelTracker::Label::Movable;
+    }
+    return movable;
+}
+
+void SemanticMapper::applySemanticEvidence(PreparedFrame& frame, FrameResult& r)
+{
+    const dynamic::SemanticEvidenceParameters& se = params_.semanticEvidence;
+    if (!semanticEvidenceOn())
+        return;
+    const auto latency = static_cast<uint64_t>(se.mask_latency);
+    MaskBoard::Lookup lookup;
+    if (framesTracked_ >= latency)
+        lookup = maskBoard_.newest(framesTracked_ - latency, latency > 0);
+    r.mask_wait_ms = lookup.wait_ms;
+    profiler_.registerUserMeasure("frame.mask_wait", r.mask_wait_ms / 1000.0, true);
+    if (lookup.mask &&
+        framesTracked_ - lookup.mask->frameId() > static_cast<uint64_t>(se.max_mask_age))
+        lookup.mask.reset();
+    const uint64_t age = lookup.mask ? framesTracked_ - lookup.mask->frameId() : 0;
+    if (lookup.mask)
+        r.maskAge = age;
+    const std::vector<bool> movable = movableKeypoints(frame, lookup.mask, age);
+    markMovable(movable, frame, r);
+}
+
+void SemanticMapper::markMovable(const std::vector<bool>& movable, PreparedFrame& frame,
+                                 FrameResult& r)
+{
+    slam::Frame& f = frame.features;
+    const size_t n = f.size();
+    f.movable = movable;
+    if (f.weights.size() != n)
+        f.weights.assign(n, 1.0F);
+    if (f.mappable.size() != n)
+        f.mappable.assign(n, true);
+    for (size_t i = 0; i < n; ++i)
+    {
+        if (!movable[i])
+            continue;
+        f.weights[i] = 0.0F;
+        f.mappable[i] = false;
+        if (i < frame.dynamic.keypoints.size())
+        {
+            frame.dynamic.keypoints[i].semantic = true;
+            frame.dynamic.keypoints[i].dynamic = true;
+        }
+        r.movableKeypoints++;
+    }
 }
 
 mapping::SemanticMapBuilder::ReanchorResult SemanticMapper::finish()

@@ -109,6 +109,7 @@ std::shared_ptr<KeyFrame> Tracker::trackOnMap(Frame& frame, TrackingResult& resu
         newKf = reanchor(frame, carried, result);
         reanchored = newKf != nullptr;
     }
+    result.raisedWeights = attempt.raisedWeights;
     if (attempt.ok)
         newKf = acceptTracked(frame, attempt.relocalised, result);
     else if (!reanchored)
@@ -131,9 +132,10 @@ Tracker::Attempt Tracker::trackWhileTracking(Frame& frame)
              (last_ && trackWithMotionModel(frame, Eigen::Isometry3d::Identity()));
     if (ok)
         ok = trackLocalMap(frame);
-    if (!ok)
-        ok = trackWithRaisedWeights(frame);
-    return {ok, false};
+    if (ok)
+        return {true, false, false};
+    ok = trackWithRaisedWeights(frame);
+    return {ok, false, ok};
 }
 
 Tracker::Attempt Tracker::trackWhileLost(Frame& frame)
@@ -356,8 +358,9 @@ bool Tracker::trackWithRaisedWeights(Frame& frame)
                     [floor](float w) { return w >= floor; }))
         return false;  // nothing would change
     const std::vector<float> weights = frame.weights;
-    for (float& w : frame.weights)
-        w = std::max(w, floor);
+    for (size_t i = 0; i < frame.weights.size(); ++i)
+        if (frame.movable.empty() || !frame.movable[i])
+            frame.weights[i] = std::max(frame.weights[i], floor);
     const bool ok =
         trackWithMotionModel(frame, velocity_ ? *velocity_ : Eigen::Isometry3d::Identity()) &&
         trackLocalMap(frame);

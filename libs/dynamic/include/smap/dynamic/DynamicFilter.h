@@ -38,6 +38,13 @@ struct KeypointEvidence
     /// Such keypoints neither refine the ego-motion nor set the adaptive tau; alone they
     /// decide nothing.
     bool wasDynamic = false;
+    /// Semantic evidence (set by the pipeline after the filter): on a movable-class region of
+    /// the newest keyframe segmentation warped into this frame. Makes the keypoint dynamic.
+    bool semantic = false;
+    /// Strong mode: where Lucas-Kanade found the keypoint in the reference frame (framesBack
+    /// earlier; pixels); negative when it was not tracked. Semantic labels follow people
+    /// along these tracks.
+    cv::Point2f inReference{-1.0F, -1.0F};
 };
 
 struct DynamicResult

@@ -16,7 +16,8 @@ namespace smap::dynamic
 cv::Mat drawEvidence(const cv::Mat& colour, const features::FeatureSet& features,
                      const DynamicResult& result);
 
-/// "u,v,depth_m,residual_px,patch_error,flow,depth_test,region,isolated,dynamic" then one row per
+/// "u,v,depth_m,residual_px,patch_error,flow,depth_test,region,isolated,was_dynamic,semantic,
+/// dynamic" then one row per
 /// keypoint (distorted pixel position; residual -1 where there was no flow measurement). A frame
 /// the filter did not evaluate starts with the comment line "# not evaluated ...".
 std::string evidenceCsv(const features::FeatureSet& features, const DynamicResult& result);

@@ -5,6 +5,9 @@
 //   2. Around every other dynamic point p, a pixel closer than sigma2 in the image AND closer
 //      than sigma1 in depth is dynamic.
 //   3. Everything else is static.
+// Beyond the paper (default): every object of a movable class (the label set's dynamic prior at
+// least movable_prior; person first) is dynamic as a whole, moving or not, so that a person
+// who stands still never enters the static maps.
 #pragma once
 
 #include <mrpt/config/CLoadableOptions.h>
@@ -36,6 +39,10 @@ struct DynamicRegionParameters : public mrpt::config::CLoadableOptions
     /// segmentation gave to the background goes with the person, while the depth jump to
     /// what lies behind stops the growth. 0 = the paper's M (config/modes/paper.ini).
     int grow_pixels = 16;
+    /// Beyond the paper: objects of classes whose dynamic prior (config/labels/*.csv) is at
+    /// least this are dynamic whatever their points say: a person standing still is still a
+    /// person. Above 1 = none (the paper, config/modes/paper.ini).
+    double movable_prior = 0.5;
 
     void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
                             const std::string& section) override;
@@ -61,7 +68,8 @@ struct ObjectRegion
     int label = 0;
     int pixels = 0;
     int dynamicPoints = 0;  ///< points of S on it
-    bool dynamic = false;   ///< removed whole (step 1)
+    bool dynamic = false;   ///< removed whole (step 1, or a movable class)
+    bool movable = false;   ///< of a movable class (removed whole whatever its points)
 };
 
 struct DynamicRegions
@@ -69,7 +77,8 @@ struct DynamicRegions
     cv::Mat dynamicMask;  ///< CV_8UC1, 255 on M (dynamic), 0 on N (static)
     cv::Mat objectIds;    ///< CV_32SC1, index into `objects`, -1 for non-object pixels
     std::vector<ObjectRegion> objects;
-    int pixelsFromObjects = 0;  ///< step 1
+    int pixelsFromObjects = 0;  ///< step 1 and movable classes
+    int pixelsMovable = 0;      ///< of those, on objects of movable classes with <= Num points
     int pixelsNearPoints = 0;   ///< step 2 (not already in step 1)
     int pixelsGrown = 0;        ///< grow_pixels (not already in steps 1-2)
 };
@@ -90,12 +99,14 @@ public:
 private:
     /// Connected regions of each class present (void and non-object classes aside).
     void findObjects(const cv::Mat& labels, DynamicRegions& r) const;
-    /// Algorithm 1 step 1: an object with more than Num dynamic points is dynamic as a whole.
+    /// Algorithm 1 step 1: an object with more than Num dynamic points is dynamic as a whole;
+    /// beyond the paper, so is every object of a movable class.
     void markDynamicObjects(const std::vector<DynamicPoint>& points, DynamicRegions& r) const;
     /// Step 2: around the other points, pixels within sigma2 in the image and sigma1 in depth.
     void markAroundPoints(const std::vector<DynamicPoint>& points, const cv::Mat& depth,
                           DynamicRegions& r) const;
     DynamicRegionParameters params_;
     std::set<int> nonObject_;
+    std::set<int> movable_;  ///< class ids with dynamic prior >= movable_prior
 };
 }  // namespace smap::mapping

@@ -19,6 +19,7 @@
 #include "smap/maps/CObservationSemanticRGBD.h"
 #include "smap/pipeline/BoundedQueue.h"
 #include "smap/pipeline/KeyFrameJob.h"
+#include "smap/pipeline/MaskBoard.h"
 #include "smap/segmentation/Segmenter.h"
 
 namespace smap::pipeline
@@ -39,6 +40,11 @@ public:
     using Observer = std::function<void(const KeyFrameJob&, const maps::CObservationSemanticRGBD&,
                                         const mapping::DynamicRegions&)>;
     void setObserver(Observer observer) { observer_ = std::move(observer); }
+
+    /// Semantic evidence for tracking: after segmenting a keyframe, publish its pixels of the
+    /// classes `movable` marks (by id) on `board` (sampled every `sampleStep` px); the board is
+    /// closed when the worker stops or fails. Set before the first keyframe.
+    void setMaskBoard(MaskBoard* board, std::vector<bool> movable, int sampleStep);
 
     /// Queues a keyframe. wait = true blocks while the queue is full; false drops the keyframe
     /// then. Returns whether it was queued. Rethrows a failure of the worker thread.
@@ -66,6 +72,8 @@ public:
 private:
     void run();
     void process(KeyFrameJob& job);
+    /// The keyframe's movable-class mask onto the board (when one is set).
+    void publishMask(const KeyFrameJob& job, const cv::Mat& labels) const;
 
     std::unique_ptr<segmentation::Segmenter> segmenter_;
     core::LabelSet labels_;
@@ -73,6 +81,9 @@ private:
     std::mutex mapMutex_;
     mapping::SemanticMapBuilder builder_;
     Observer observer_;
+    MaskBoard* board_ = nullptr;
+    std::vector<bool> movable_;
+    int maskStep_ = 4;
     BoundedQueue<KeyFrameJob> queue_;
     mutable std::mutex statsMutex_;
     Stats stats_;

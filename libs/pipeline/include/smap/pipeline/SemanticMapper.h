@@ -11,14 +11,18 @@
 #include <mrpt/system/COutputLogger.h>
 #include <mrpt/system/CTimeLogger.h>
 
+#include <deque>
 #include <memory>
 #include <optional>
+#include <utility>
 
 #include "smap/core/RgbdFrame.h"
 #include "smap/core/Trajectory.h"
 #include "smap/dynamic/DynamicFilter.h"
+#include "smap/dynamic/MovableLabelTracker.h"
 #include "smap/mapping/SemanticMapBuilder.h"
 #include "smap/pipeline/KeyFrameWorker.h"
+#include "smap/pipeline/MaskBoard.h"
 #include "smap/pipeline/SemanticMapperParameters.h"
 #include "smap/slam/RgbdSlam.h"
 
@@ -49,10 +53,19 @@ public:
         double dynamic_ms = 0.0;
         bool keyframeDropped = false;  ///< a keyframe the full queue turned away (when_full = drop)
         double queue_wait_ms = 0.0;    ///< time tracking waited for room in the keyframe queue
+        /// Semantic evidence: the age (frames) of the keyframe mask the frame used; nullopt
+        /// when it used none (off, no keyframe segmented yet, or the newest too old).
+        std::optional<uint64_t> maskAge;
+        size_t movableKeypoints = 0;  ///< keypoints on the warped movable-class regions
+        double mask_wait_ms = 0.0;    ///< time waiting for a late mask ([semantic_evidence])
+        double semantic_ms = 0.0;     ///< semantic evidence, waiting included
     };
 
     PreparedFrame prepare(const core::RgbdFrame& frame);
-    FrameResult track(PreparedFrame frame);
+    /// `inspect` (optional) sees the frame after the semantic evidence joined the filter's
+    /// verdicts, before tracking (debug pictures).
+    FrameResult track(PreparedFrame frame,
+                      const std::function<void(const PreparedFrame&)>& inspect = nullptr);
     FrameResult process(const core::RgbdFrame& frame) { return track(prepare(frame)); }
 
     /// Minimum level logged by this object, tracking, local mapping and the worker.
@@ -89,10 +102,37 @@ public:
     const SemanticMapperParameters& parameters() const { return params_; }
 
 private:
+    /// [semantic_evidence] enabled, with the strong filter (the paper's mode and "off" use flow
+    /// evidence only, or none).
+    bool semanticEvidenceOn() const
+    {
+        return params_.semanticEvidence.enabled &&
+               params_.dynamic.mode == dynamic::FilterMode::Strong;
+    }
+    /// Semantic evidence: flags the keypoints on movable-class regions of the newest usable
+    /// keyframe mask as dynamic and movable (weight 0, no map points).
+    void applySemanticEvidence(PreparedFrame& frame, FrameResult& r);
+    /// Which keypoints are movable: the label the tracker carried along their Lucas-Kanade
+    /// track from the mask's keyframe, else the mask warped to the predicted pose.
+    std::vector<bool> movableKeypoints(const PreparedFrame& frame, const MaskBoard::MaskPtr& mask,
+                                       uint64_t age);
+    void markMovable(const std::vector<bool>& movable, PreparedFrame& frame, FrameResult& r);
+    /// The frame's pose predicted at constant velocity from the last tracked ones.
+    std::optional<Eigen::Isometry3d> predictPose(uint64_t frameId) const;
+    /// Announces a queued keyframe to the mask board.
+    void submitKeyFrame(PreparedFrame& frame, std::vector<mapping::DynamicPoint> dynamicPoints,
+                        FrameResult& r);
+
     SemanticMapperParameters params_;
     std::unique_ptr<slam::RgbdSlam> slam_;
     dynamic::DynamicFilter dynamicFilter_;
+    MaskBoard maskBoard_;  ///< before worker_, which closes it when destroyed
+    dynamic::MovableLabelTracker labelTracker_;
+    std::optional<uint64_t> labelledMask_;  ///< keyframe of the mask the tracker has
     std::unique_ptr<KeyFrameWorker> worker_;
+    uint64_t framesTracked_ = 0;  ///< = the tracker's id of the next frame
+    /// The last tracked poses (tracker frame id, T_world_cam), newest last.
+    std::deque<std::pair<uint64_t, Eigen::Isometry3d>> recentPoses_;
     uint64_t keyframes_ = 0;
     mrpt::system::CTimeLogger profiler_;
 };

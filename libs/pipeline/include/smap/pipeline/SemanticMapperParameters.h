@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "smap/dynamic/DynamicParameters.h"
+#include "smap/dynamic/SemanticEvidenceParameters.h"
 #include "smap/features/OrbParameters.h"
 #include "smap/mapping/DynamicRegionFinder.h"
 #include "smap/mapping/MapBuilderParameters.h"
@@ -21,6 +22,7 @@ struct SemanticMapperParameters
     slam::TrackerParameters tracking;
     slam::LocalMappingParameters localMapping;
     dynamic::DynamicParameters dynamic;
+    dynamic::SemanticEvidenceParameters semanticEvidence;
     segmentation::SegmentationParameters segmentation;
     mapping::DynamicRegionParameters association;
     mapping::MapBuilderParameters map;
@@ -29,12 +31,12 @@ struct SemanticMapperParameters
     /// The parts, in the order the configuration reference lists them.
     std::vector<mrpt::config::CLoadableOptions*> parts()
     {
-        return {&orb,          &tracking,    &localMapping, &dynamic,
+        return {&orb,          &tracking,    &localMapping, &dynamic, &semanticEvidence,
                 &segmentation, &association, &map,          &pipeline};
     }
     std::vector<const mrpt::config::CLoadableOptions*> parts() const
     {
-        return {&orb,          &tracking,    &localMapping, &dynamic,
+        return {&orb,          &tracking,    &localMapping, &dynamic, &semanticEvidence,
                 &segmentation, &association, &map,          &pipeline};
     }
 };

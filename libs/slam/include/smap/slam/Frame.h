@@ -32,6 +32,9 @@ struct Frame
     /// dynamic filter clears it where it could not measure the flow: such a keypoint is used
     /// for tracking, but nothing shows that it is static.
     std::vector<bool> mappable;
+    /// Per keypoint (empty: none): on a region of a movable class (semantic evidence). Such a
+    /// keypoint has weight 0 that no fallback raises: a person is not a landmark, moving or not.
+    std::vector<bool> movable;
     std::vector<std::shared_ptr<MapPoint>> points;  ///< matched map point or null
     std::vector<bool> outlier;
     Eigen::Isometry3d T_cam_world = Eigen::Isometry3d::Identity();

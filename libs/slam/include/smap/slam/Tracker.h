@@ -64,6 +64,9 @@ struct TrackingResult
     /// When this frame started the map: the earlier frame (not initialised when it came) that
     /// the outside odometry placed relative to it; its record now has status Odometry.
     std::optional<uint64_t> posedEarlierFrameId;
+    /// Tracked only once the dynamic filter's weights were raised ([tracking] fallback_weight):
+    /// too few keypoints it judged static matched the map.
+    bool raisedWeights = false;
 };
 
 class Tracker : public mrpt::system::COutputLogger
@@ -100,6 +103,7 @@ private:
     {
         bool ok = false;
         bool relocalised = false;
+        bool raisedWeights = false;  ///< only trackWithRaisedWeights succeeded
     };
 
     /// NotInitialised: the frame starts the map when it has enough depth.

@@ -1,0 +1,50 @@
+// Options of the semantic evidence in tracking ([semantic_evidence] section): how the movable
+// classes that keyframe segmentation finds are carried to the frames after it and fused with the
+// dynamic filter's flow evidence (docs/dynamic.md "Semantic evidence").
+#pragma once
+
+#include <mrpt/config/CLoadableOptions.h>
+
+#include <string>
+
+#include "smap/core/OptionFields.h"
+
+namespace smap::dynamic
+{
+struct SemanticEvidenceParameters : public mrpt::config::CLoadableOptions
+{
+    /// Keypoints on a movable-class region (of the newest keyframe mask, warped into the frame)
+    /// carry no weight and start no map points, moving or not. false: flow evidence only (A/B).
+    /// Only with [dynamic] mode = strong: the paper's mode stays the paper's.
+    bool enabled = true;
+    /// Movable classes: dynamic prior (labels CSV) at least this (person 0.9).
+    double movable_prior = 0.5;
+    /// A keyframe's mask is used from this many frames after the keyframe on; a frame that
+    /// comes earlier uses the mask before, and the frame at the latency waits for the
+    /// segmentation if it is late, so that runs are reproducible. 0 = each frame uses the newest
+    /// mask ready and never waits (live sensors; results then depend on timing).
+    int mask_latency = 10;
+    /// A mask older than this (frames) is not used.
+    int max_mask_age = 60;
+    /// The warped mask grows by dilation_px plus age_dilation_px per frame of its age (people
+    /// move while the mask ages), at most max_dilation_px.
+    double dilation_px = 12.0;
+    double age_dilation_px = 1.0;
+    double max_dilation_px = 40.0;
+    /// A keypoint in the grown mask, or labelled movable along its track, is movable only
+    /// within this depth (m) of the nearest movable sample around it: the growth takes in a
+    /// person, not the wall behind. Keypoints without depth: the mask alone decides.
+    double depth_margin = 0.5;
+    /// One 3-D sample of a mask every sample_step pixels (each way).
+    int sample_step = 4;
+
+    void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
+                            const std::string& section) override;
+    void saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
+                          const std::string& section) const override;
+
+private:
+    /// Every key of the section (default [semantic_evidence]), listed once.
+    core::OptionFields fields(const std::string& section);
+};
+}  // namespace smap::dynamic

@@ -1,0 +1,57 @@
+#include "smap/dynamic/SemanticEvidenceParameters.h"
+
+#include <mrpt/core/format.h>
+
+#include "smap/core/InputError.h"
+
+namespace smap::dynamic
+{
+core::OptionFields SemanticEvidenceParameters::fields(const std::string& section)
+{
+    core::OptionFields f(section, "semantic_evidence");
+    f.add("enabled", enabled)
+        .add("movable_prior", movable_prior)
+        .add("mask_latency", mask_latency)
+        .add("max_mask_age", max_mask_age)
+        .add("dilation_px", dilation_px)
+        .add("age_dilation_px", age_dilation_px)
+        .add("max_dilation_px", max_dilation_px)
+        .add("depth_margin", depth_margin)
+        .add("sample_step", sample_step);
+    return f;
+}
+
+void SemanticEvidenceParameters::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
+                                                    const std::string& section)
+{
+    fields(section).load(cfg);
+    if (!(movable_prior >= 0.0))
+        throw core::InputError(
+            mrpt::format("[semantic_evidence] movable_prior = %g must be >= 0 (above 1: no class)",
+                         movable_prior));
+    if (mask_latency < 0 || max_mask_age < 1 || mask_latency > max_mask_age)
+        throw core::InputError(mrpt::format(
+            "[semantic_evidence] mask_latency = %d must be in [0, max_mask_age = %d] and "
+            "max_mask_age >= 1",
+            mask_latency, max_mask_age));
+    if (!(dilation_px >= 0.0) || !(age_dilation_px >= 0.0) || !(max_dilation_px >= dilation_px) ||
+        max_dilation_px > 200.0)
+        throw core::InputError(mrpt::format(
+            "[semantic_evidence] need 0 <= dilation_px = %g <= max_dilation_px = %g <= 200 and "
+            "age_dilation_px = %g >= 0",
+            dilation_px, max_dilation_px, age_dilation_px));
+    if (!(depth_margin >= 0.0))
+        throw core::InputError(
+            mrpt::format("[semantic_evidence] depth_margin = %g must be >= 0", depth_margin));
+    if (sample_step < 1 || sample_step > 32)
+        throw core::InputError(
+            mrpt::format("[semantic_evidence] sample_step = %d must be in [1, 32]", sample_step));
+}
+
+void SemanticEvidenceParameters::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
+                                                  const std::string& section) const
+{
+    // Saving only reads the fields the list points at.
+    const_cast<SemanticEvidenceParameters*>(this)->fields(section).save(cfg);
+}
+}  // namespace smap::dynamic
