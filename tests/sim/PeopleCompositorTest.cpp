@@ -5,6 +5,7 @@
 #include <Eigen/Geometry>
 #include <opencv2/imgproc.hpp>
 
+#include "smap/core/InputError.h"
 #include "smap/sim/PeopleCompositor.h"
 #include "smap/sim/SequenceGenerator.h"
 
@@ -52,6 +53,65 @@ core::RgbdFrame asRgbd(const sim::SyntheticFrame& f, const core::PinholeCamera& 
     return r;
 }
 }  // namespace
+
+TEST(PeopleCompositor, StopAndStayStandsStillForItsDwellAndSwayStaysInPlace)
+{
+    sim::CompositedPerson p;
+    p.start = {0, 0, 0};
+    p.direction = {1, 0, 0};
+    p.halfRange = 1.0;
+    p.speed = 1.0;
+    p.dwell = 5.0;
+    // Walks from -1 to +1 in 2 s, stands 5 s, walks back in 2 s, stands 5 s: period 14 s.
+    EXPECT_NEAR(p.feetAt(0.0).x(), -1.0, 1e-12);
+    EXPECT_NEAR(p.feetAt(1.0).x(), 0.0, 1e-9);
+    for (double t = 2.0; t <= 7.0; t += 0.5)
+        EXPECT_NEAR(p.feetAt(t).x(), 1.0, 1e-9) << "standing at t = " << t;
+    EXPECT_NEAR(p.feetAt(8.0).x(), 0.0, 1e-9);
+    for (double t = 9.0; t < 14.0; t += 0.5)
+        EXPECT_NEAR(p.feetAt(t).x(), -1.0, 1e-9) << "standing at t = " << t;
+    EXPECT_NEAR(p.feetAt(15.0).x(), 0.0, 1e-9) << "next period";
+
+    sim::CompositedPerson s;
+    s.start = {0, 3, 0};
+    s.direction = {1, 0, 0};
+    s.sway = true;
+    s.halfRange = 0.1;
+    s.swayPeriod = 2.0;
+    EXPECT_NEAR(s.feetAt(0.5).x(), 0.1, 1e-9);  // a quarter period: the far side
+    EXPECT_NEAR(s.feetAt(1.5).x(), -0.1, 1e-9);
+    for (double t = 0; t < 10; t += 0.37)
+        EXPECT_LE((s.feetAt(t) - s.start).norm(), 0.1 + 1e-9);
+}
+
+TEST(PeopleCompositor, ScenariosByNameWithTheirPeopleCounts)
+{
+    for (const auto* name : {"random", "crossing", "crowd", "seated", "stop_and_stay"})
+        EXPECT_EQ(sim::toString(sim::compositeScenarioFromString(name)), name);
+    EXPECT_EQ(sim::defaultPeopleCount(sim::CompositeScenario::Crowd), 3u);
+    EXPECT_EQ(sim::defaultPeopleCount(sim::CompositeScenario::StopAndStay), 1u);
+    EXPECT_THROW(sim::compositeScenarioFromString("dance"), core::InputError);
+}
+
+TEST(PeopleCompositor, ACrowdGathersCloseInFrontOfTheMiddleFrame)
+{
+    const RealSequence real = renderStaticSequence();
+    std::vector<sim::PeopleCompositor::Probe> probes;
+    for (const auto& f : real.frames)
+        probes.push_back({asRgbd(f, real.camera), f.T_world_cam});
+    const sim::PeopleCompositor comp({ellipseSprite()}, real.trajectory, probes, 3, 3,
+                                     sim::CompositeScenario::Crowd);
+    ASSERT_EQ(comp.people().size(), 3u);
+    const auto& middle = probes[probes.size() / 2].T_world_cam;
+    const Eigen::Vector3d c(middle.x(), middle.y(), middle.z());
+    for (const auto& p : comp.people())
+    {
+        Eigen::Vector3d d = p.start - c;
+        d -= comp.up() * comp.up().dot(d);
+        EXPECT_LE(d.norm(), 1.6 * 1.01 + 0.6) << "within 1.6 m ahead and 0.6 m aside";
+        EXPECT_GE(p.speed, 1.3);
+    }
+}
 
 TEST(PeopleCompositor, PeopleStandOnTheFloorInFreeSpaceWithCorrectOcclusion)
 {

@@ -24,8 +24,66 @@ Eigen::Vector3d translation(const mrpt::poses::CPose3D& p)
 }
 }  // namespace
 
+CompositeScenario compositeScenarioFromString(const std::string& name)
+{
+    for (const auto s :
+         {CompositeScenario::Random, CompositeScenario::Crossing, CompositeScenario::Crowd,
+          CompositeScenario::Seated, CompositeScenario::StopAndStay})
+        if (toString(s) == name)
+            return s;
+    throw core::InputError("unknown --scenario '" + name +
+                           "' (random, crossing, crowd, seated, stop_and_stay)");
+}
+
+std::string toString(CompositeScenario s)
+{
+    switch (s)
+    {
+        case CompositeScenario::Random:
+            return "random";
+        case CompositeScenario::Crossing:
+            return "crossing";
+        case CompositeScenario::Crowd:
+            return "crowd";
+        case CompositeScenario::Seated:
+            return "seated";
+        case CompositeScenario::StopAndStay:
+            return "stop_and_stay";
+    }
+    return "random";
+}
+
+size_t defaultPeopleCount(CompositeScenario s)
+{
+    switch (s)
+    {
+        case CompositeScenario::Crowd:
+            return 3;
+        case CompositeScenario::StopAndStay:
+            return 1;
+        default:
+            return 2;
+    }
+}
+
 Eigen::Vector3d CompositedPerson::feetAt(double t) const
 {
+    if (sway)
+        return start + halfRange * std::sin(2.0 * M_PI * (t + phase) / swayPeriod) * direction;
+    if (dwell > 0.0)
+    {
+        // Walk -halfRange -> +halfRange, stand, walk back, stand.
+        const double walk = 2.0 * halfRange / speed;
+        const double tau = std::fmod(t + phase, 2.0 * (walk + dwell));
+        double x = -halfRange;
+        if (tau < walk)
+            x = -halfRange + speed * tau;
+        else if (tau < walk + dwell)
+            x = halfRange;
+        else if (tau < 2.0 * walk + dwell)
+            x = halfRange - speed * (tau - walk - dwell);
+        return start + x * direction;
+    }
     // Back and forth (a triangle wave) along the direction, at constant speed.
     const double period = 4.0 * halfRange / speed;
     const double s = std::fmod(t + phase, period) / period;  // 0..1
@@ -201,14 +259,58 @@ struct PlacementDraws
 /// Person i walks in front of probe i * probes / count, so that people are spread over the
 /// sequence rather than all left behind at its start: of up to 200 random walking lines, the
 /// first with all its body samples in known free space, else the one with the fewest outside.
+/// What a scenario changes in a drawn walking line (Random: nothing, so that its composites stay
+/// those published before scenarios existed).
+void applyScenario(CompositeScenario scenario, double unit, CompositedPerson& p,
+                   const Eigen::Vector3d& ground, const Eigen::Vector3d& forward,
+                   const Eigen::Vector3d& side)
+{
+    // `unit` is a fresh draw in [0, 1): the scenario's own spread.
+    switch (scenario)
+    {
+        case CompositeScenario::Random:
+            return;
+        case CompositeScenario::Crossing:
+            p.start = ground + (1.5 + 1.5 * unit) * forward + (unit - 0.5) * side;
+            p.direction = side * (p.instanceId % 2 == 0 ? -1.0 : 1.0);
+            p.halfRange = 1.2 + 0.3 * unit;
+            p.speed = 1.0 + 0.3 * unit;
+            return;
+        case CompositeScenario::Crowd:
+            p.start = ground + (0.9 + 0.7 * unit) * forward + (1.2 * unit - 0.6) * side;
+            p.halfRange = 0.8 + 0.4 * unit;
+            p.speed = 1.3 + 0.5 * unit;
+            return;
+        case CompositeScenario::Seated:
+            p.start = ground + (1.5 + 1.5 * unit) * forward + (2.0 * unit - 1.0) * side;
+            p.sway = true;
+            p.halfRange = 0.05 + 0.1 * unit;
+            p.swayPeriod = 2.0 + unit;
+            p.height = 1.25 + 0.1 * unit;
+            return;
+        case CompositeScenario::StopAndStay:
+            p.start = ground + (1.5 + 1.0 * unit) * forward;
+            p.direction = side;
+            p.halfRange = 1.0 + 0.5 * unit;
+            p.speed = 0.8 + 0.4 * unit;
+            p.dwell = 5.0;
+            p.phase = 0.0;
+            return;
+    }
+}
+
 std::pair<CompositedPerson, FreeSpaceCheck> placePerson(const std::vector<cv::Mat>& sprites,
                                                         const Probes& probes,
                                                         const Eigen::Vector3d& up,
                                                         double floorHeight, size_t i, size_t count,
-                                                        uint32_t seed, PlacementDraws& draws)
+                                                        uint32_t seed, PlacementDraws& draws,
+                                                        CompositeScenario scenario)
 {
     constexpr int kAttempts = 200;
-    const auto& anchor = probes[i * probes.size() / count].T_world_cam;
+    // A crowd gathers in front of one frame, the middle one; the others spread over the frames.
+    const size_t anchorIndex =
+        scenario == CompositeScenario::Crowd ? probes.size() / 2 : i * probes.size() / count;
+    const auto& anchor = probes[anchorIndex].T_world_cam;
     Eigen::Vector3d forward = rotation(anchor).col(2);
     forward -= up * up.dot(forward);
     forward.normalize();
@@ -231,6 +333,9 @@ std::pair<CompositedPerson, FreeSpaceCheck> placePerson(const std::vector<cv::Ma
         p.speed = draws.speed(draws.rng);
         p.phase = draws.phase(draws.rng);
         p.instanceId = static_cast<uint16_t>(i + 1);
+        if (scenario != CompositeScenario::Random)
+            applyScenario(scenario, std::uniform_real_distribution<double>(0.0, 1.0)(draws.rng), p,
+                          ground, forward, side);
         const FreeSpaceCheck check = collisions(p, up, probes);
         if (check.inside + check.unseen < bestHits)
         {
@@ -245,7 +350,8 @@ std::pair<CompositedPerson, FreeSpaceCheck> placePerson(const std::vector<cv::Ma
 
 PeopleCompositor::PeopleCompositor(const std::vector<cv::Mat>& sprites,
                                    const core::Trajectory& T_world_cam,
-                                   const std::vector<Probe>& probes, size_t count, uint32_t seed)
+                                   const std::vector<Probe>& probes, size_t count, uint32_t seed,
+                                   CompositeScenario scenario)
 {
     if (sprites.empty() || T_world_cam.empty() || probes.empty())
         throw core::InputError("compositing needs cut-outs, a ground-truth trajectory and a frame");
@@ -269,7 +375,7 @@ PeopleCompositor::PeopleCompositor(const std::vector<cv::Mat>& sprites,
     for (size_t i = 0; i < count; i++)
     {
         const auto [person, check] =
-            placePerson(sprites, probes, up_, floorHeight_, i, count, seed, draws);
+            placePerson(sprites, probes, up_, floorHeight_, i, count, seed, draws, scenario);
         freeSpace_.samples += check.samples;
         freeSpace_.inside += check.inside;
         freeSpace_.unseen += check.unseen;

@@ -18,6 +18,22 @@
 
 namespace smap::sim
 {
+/// How the composited people move (smap-synth --scenario).
+enum class CompositeScenario
+{
+    Random,       ///< each walks back and forth on a random line, spread over the sequence
+    Crossing,     ///< walking straight across the view, 1.5 - 3 m away
+    Crowd,        ///< fast walkers 0.9 - 1.6 m in front of the same frame: they fill the view
+    Seated,       ///< people in place who sway and gesture (a few cm to 15 cm, ~0.4 Hz)
+    StopAndStay,  ///< walks in, stands still for 5 s, walks on, stands again
+};
+/// "random", "crossing", "crowd", "seated", "stop_and_stay"; throws InputError otherwise.
+CompositeScenario compositeScenarioFromString(const std::string& name);
+std::string toString(CompositeScenario s);
+/// The people count a scenario is made for (random and crossing 2, crowd 3, seated 2,
+/// stop-and-stay 1).
+size_t defaultPeopleCount(CompositeScenario s);
+
 struct CompositedPerson
 {
     cv::Mat sprite;             ///< CV_8UC4 BGRA cut-out
@@ -27,6 +43,12 @@ struct CompositedPerson
     double halfRange = 1.0;     ///< walks between start +- halfRange along direction
     double speed = 1.0;         ///< m/s
     double phase = 0.0;         ///< s
+    /// Seconds standing still at each end of the walk (0: turns at once).
+    double dwell = 0.0;
+    /// Sways in place instead: start + halfRange x sin(2 pi (t + phase) / swayPeriod) along
+    /// direction.
+    bool sway = false;
+    double swayPeriod = 2.5;  ///< s
     uint16_t instanceId = 1;
 
     Eigen::Vector3d feetAt(double t) const;
@@ -69,7 +91,8 @@ public:
     /// fewest body samples not known to be free space (inside a surface a probe sees, or seen
     /// free by no probe). Sprites are BGRA.
     PeopleCompositor(const std::vector<cv::Mat>& sprites, const core::Trajectory& T_world_cam,
-                     const std::vector<Probe>& probes, size_t count, uint32_t seed);
+                     const std::vector<Probe>& probes, size_t count, uint32_t seed,
+                     CompositeScenario scenario = CompositeScenario::Random);
 
     CompositeFrame composite(const core::RgbdFrame& frame, const mrpt::poses::CPose3D& T_world_cam,
                              double t) const;
