@@ -150,6 +150,49 @@ TEST(SemanticMapBuilder, PruningDropsPointsWhereLaterKeyframesSawThrough)
     }
 }
 
+TEST(SemanticMapBuilder, PruningNearMoversDropsOnlyWhatStoodBesideAMover)
+{
+    // Keyframe 0: box A 1 m in front, right beside pixels the dynamic mask caught (a person),
+    // and box B 1 m in front, 0.4 m away from them; keyframes 1-3 see the bare wall through
+    // both. Only A is beside a mover: only A goes; B and the wall stay.
+    maps::BackProjector::Images first = wall();
+    first.dynamicMask.setTo(0);
+    first.depth(cv::Rect(32, 15, 8, 20)).setTo(1.0f);  // A: x -0.09 .. 0 m (within 0.1 m)
+    first.depth(cv::Rect(40, 15, 6, 20)).setTo(1.0f);  // the mover beside it
+    first.dynamicMask(cv::Rect(40, 15, 6, 20)).setTo(255);
+    first.depth(cv::Rect(0, 45, 10, 10)).setTo(1.0f);  // B: x -0.5 .. -0.39 m
+    maps::BackProjector::Images bare = wall();
+    bare.dynamicMask.setTo(0);
+    const auto count = [](const maps::CSemanticPointsMap& m, float xMin, float xMax)
+    {
+        size_t n = 0;
+        for (const auto& p : m.points())
+            n += p.position.z() < 1.5f && p.position.x() >= xMin && p.position.x() < xMax ? 1 : 0;
+        return n;
+    };
+    mapping::MapBuilderParameters p;
+    p.prune_near_movers = 0.1;
+    mapping::SemanticMapBuilder b(p, core::LabelSet::pascalVoc());
+    b.add(0, 0, 0.0, first, camera(), mrpt::poses::CPose3D());
+    for (uint64_t k = 1; k <= 3; ++k)
+        b.add(k, k, static_cast<double>(k), bare, camera(), mrpt::poses::CPose3D());
+    const size_t a = count(b.pointsMap(), -0.2f, 0.05f), boxB = count(b.pointsMap(), -1.0f, -0.35f);
+    const size_t wallBefore = b.pointsMap().size() - a - boxB;
+    ASSERT_GT(a, 20U);
+    ASSERT_GT(boxB, 20U);
+    EXPECT_EQ(b.pruneFreePoints(), a);
+    EXPECT_EQ(count(b.pointsMap(), -0.2f, 0.05f), 0U);
+    EXPECT_EQ(count(b.pointsMap(), -1.0f, -0.35f), boxB);
+    EXPECT_EQ(b.pointsMap().size() - boxB, wallBefore);
+    // Off: nothing goes.
+    p.prune_near_movers = 0.0;
+    mapping::SemanticMapBuilder off(p, core::LabelSet::pascalVoc());
+    off.add(0, 0, 0.0, first, camera(), mrpt::poses::CPose3D());
+    for (uint64_t k = 1; k <= 3; ++k)
+        off.add(k, k, static_cast<double>(k), bare, camera(), mrpt::poses::CPose3D());
+    EXPECT_EQ(off.pruneFreePoints(), 0U);
+}
+
 TEST(SemanticMapBuilder, ALabelFileOfThirtyClassesKeepsClass25AndItsColour)
 {
     // A label file beyond PASCAL VOC's 21 classes: class 25 must reach both maps (the octomap's

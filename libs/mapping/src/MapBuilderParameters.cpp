@@ -17,6 +17,10 @@ void MapBuilderParameters::loadFromConfigFile(const mrpt::config::CConfigFileBas
     reanchor_translation = cfg.read_double(s, "reanchor_translation", reanchor_translation);
     reanchor_rotation_deg = cfg.read_double(s, "reanchor_rotation_deg", reanchor_rotation_deg);
     prune_free_points = cfg.read_bool(s, "prune_free_points", prune_free_points);
+    prune_near_movers = cfg.read_double(s, "prune_near_movers", prune_near_movers);
+    if (!(prune_near_movers >= 0.0 && prune_near_movers <= 2.0))
+        throw core::InputError(mrpt::format(
+            "[map] prune_near_movers = %g must be in [0, 2] m (0: off)", prune_near_movers));
     if (!(contribution_voxel >= 0.0 && contribution_voxel <= 1.0))
         throw core::InputError(
             mrpt::format("[map] contribution_voxel = %g must be in [0, 1] m (0: no thinning)",
@@ -39,6 +43,7 @@ void MapBuilderParameters::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
     cfg.write(s, "reanchor_translation", reanchor_translation);
     cfg.write(s, "reanchor_rotation_deg", reanchor_rotation_deg);
     cfg.write(s, "prune_free_points", prune_free_points);
+    cfg.write(s, "prune_near_movers", prune_near_movers);
     pointsMap.saveToConfigFile(cfg, "points_map");
     octoMap.saveToConfigFile(cfg, "octomap");
 }

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
+#include <unordered_set>
 
 namespace smap::mapping
 {
@@ -54,6 +56,8 @@ const KeyFrameContribution& SemanticMapBuilder::add(uint64_t keyframe, uint64_t 
     }
     c.points_cam = std::move(cam);
     c.points_cam.shrink_to_fit();
+    if (params_.prune_near_movers > 0.0)
+        c.movers_cam = moverSamples(images, camera);
     insert(c);
     contributions_.push_back(std::move(c));
     return contributions_.back();
@@ -122,16 +126,67 @@ SemanticMapBuilder::ReanchorResult SemanticMapBuilder::reanchor(
     return r;
 }
 
+std::vector<Eigen::Vector3f> SemanticMapBuilder::moverSamples(
+    const maps::BackProjector::Images& images, const core::PinholeCamera& camera)
+{
+    constexpr int kStep = 4;
+    std::vector<Eigen::Vector3f> out;
+    if (images.dynamicMask.empty())
+        return out;
+    for (int v = kStep / 2; v < images.dynamicMask.rows; v += kStep)
+    {
+        for (int u = kStep / 2; u < images.dynamicMask.cols; u += kStep)
+        {
+            const float z = images.depth.at<float>(v, u);
+            if (images.dynamicMask.at<uint8_t>(v, u) != 0 && z > 0.0F)
+                out.push_back(camera.unproject(u, v, z).cast<float>());
+        }
+    }
+    return out;
+}
+
+std::function<bool(const Eigen::Vector3f&)> SemanticMapBuilder::nearMovers() const
+{
+    // Voxels of the pruning distance holding a mover sample, and their 26 neighbours.
+    const double edge = params_.prune_near_movers;
+    const auto key = [edge](double x, double y, double z)
+    {
+        const auto q = [edge](double a) { return static_cast<int64_t>(std::floor(a / edge)); };
+        // 21 bits per axis: +-1 million voxels.
+        constexpr int64_t kMask = (1 << 21) - 1;
+        return ((q(x) & kMask) << 42) | ((q(y) & kMask) << 21) | (q(z) & kMask);
+    };
+    auto voxels = std::make_shared<std::unordered_set<int64_t>>();
+    for (const auto& c : contributions_)
+    {
+        for (const auto& m : c.movers_cam)
+        {
+            double x = 0, y = 0, z = 0;
+            c.T_world_cam.composePoint(m.x(), m.y(), m.z(), x, y, z);
+            for (int dx = -1; dx <= 1; ++dx)
+                for (int dy = -1; dy <= 1; ++dy)
+                    for (int dz = -1; dz <= 1; ++dz)
+                        voxels->insert(key(x + dx * edge, y + dy * edge, z + dz * edge));
+        }
+    }
+    return [voxels, key](const Eigen::Vector3f& p)
+    { return voxels->count(key(p.x(), p.y(), p.z())) > 0; };
+}
+
 size_t SemanticMapBuilder::pruneFreePoints()
 {
-    if (!params_.prune_free_points || !params_.points_map || !params_.octomap)
+    if (!params_.points_map || !params_.octomap ||
+        (!params_.prune_free_points && !(params_.prune_near_movers > 0.0)))
         return 0;
-    return pointsMap_.removeIf(
-        [&](const Eigen::Vector3f& p)
-        {
-            maps::CSemanticOctoMap::Voxel v;
-            return octoMap_.voxelAt(p, v) && v.occupancy < 0.5f;
-        });
+    const auto carved = [&](const Eigen::Vector3f& p)
+    {
+        maps::CSemanticOctoMap::Voxel v;
+        return octoMap_.voxelAt(p, v) && v.occupancy < 0.5f;
+    };
+    if (params_.prune_free_points)
+        return pointsMap_.removeIf(carved);
+    const auto near = nearMovers();
+    return pointsMap_.removeIf([&](const Eigen::Vector3f& p) { return near(p) && carved(p); });
 }
 
 size_t SemanticMapBuilder::contributionBytes() const

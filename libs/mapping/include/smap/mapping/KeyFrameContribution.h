@@ -18,10 +18,13 @@ struct KeyFrameContribution
     double timestamp = 0.0;
     mrpt::poses::CPose3D T_world_cam;             ///< the pose the points were inserted at
     std::vector<maps::SemanticPoint> points_cam;  ///< camera (optical) frame
+    /// Where movers were: samples of the keyframe's dynamic pixels (M) with depth, camera frame.
+    std::vector<Eigen::Vector3f> movers_cam;
 
     size_t memoryBytes() const
     {
-        return sizeof(*this) + points_cam.capacity() * sizeof(maps::SemanticPoint);
+        return sizeof(*this) + points_cam.capacity() * sizeof(maps::SemanticPoint) +
+               movers_cam.capacity() * sizeof(Eigen::Vector3f);
     }
 };
 }  // namespace smap::mapping

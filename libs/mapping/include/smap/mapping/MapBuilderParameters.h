@@ -27,6 +27,10 @@ struct MapBuilderParameters : public mrpt::config::CLoadableOptions
     /// stood) are removed, as the octomap itself forgets them. Off by default: it also thins
     /// static surfaces seen at a glance (docs/mapping.md).
     bool prune_free_points = false;
+    /// The same, only within this distance (m) of where a keyframe's dynamic pixels (M) were:
+    /// what slipped past Algorithm 1 beside a person (a missed arm, the feet) goes once later
+    /// keyframes see through it, and static surfaces elsewhere are not thinned. 0 = off.
+    double prune_near_movers = 0.3;
 
     /// [points_map] and [octomap]: the maps' own options (voxel size, resolution, sensor model,
     /// and the depth range / stride of back-projection, which the builder applies too).

@@ -47,8 +47,9 @@ public:
         const std::function<std::optional<mrpt::poses::CPose3D>(const KeyFrameContribution&)>&
             finalPose);
 
-    /// With both maps and prune_free_points: removes the points-map points whose octomap voxel
-    /// is known and free (occupancy < 0.5). Returns how many went.
+    /// With both maps: removes the points-map points whose octomap voxel is known and free
+    /// (occupancy < 0.5), all of them with prune_free_points, else those within
+    /// prune_near_movers of where a keyframe's dynamic pixels were. Returns how many went.
     size_t pruneFreePoints();
 
     const maps::CSemanticPointsMap& pointsMap() const { return pointsMap_; }
@@ -60,6 +61,11 @@ public:
 
 private:
     void insert(const KeyFrameContribution& c);
+    /// Samples of the dynamic pixels with depth (every 4 px), in the camera frame.
+    static std::vector<Eigen::Vector3f> moverSamples(const maps::BackProjector::Images& images,
+                                                     const core::PinholeCamera& camera);
+    /// Whether a world point lies within prune_near_movers of a mover sample (voxel test).
+    std::function<bool(const Eigen::Vector3f&)> nearMovers() const;
 
     MapBuilderParameters params_;
     maps::BackProjector projector_;
