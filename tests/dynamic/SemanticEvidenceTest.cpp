@@ -5,6 +5,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "TestData.h"
 #include "smap/dynamic/MovableLabelTracker.h"
 #include "smap/dynamic/MovableMask.h"
 
@@ -16,13 +17,7 @@ namespace
 {
 core::PinholeCamera camera()
 {
-    core::PinholeCamera c;
-    c.width = 640;
-    c.height = 480;
-    c.fx = c.fy = 525.0;
-    c.cx = 319.5;
-    c.cy = 239.5;
-    return c;
+    return test::centredCamera(640, 480, 525.0);
 }
 
 /// Person (VOC 15) in a 64 x 160 px box at (288, 160), 2 m away; the rest background at 4 m.

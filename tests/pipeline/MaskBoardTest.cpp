@@ -5,6 +5,7 @@
 #include <chrono>
 #include <thread>
 
+#include "TestData.h"
 #include "smap/pipeline/MaskBoard.h"
 
 using namespace smap;
