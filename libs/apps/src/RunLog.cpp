@@ -184,21 +184,39 @@ core::JsonValue RunLog::trackingJson() const
         .set("frames_lost", static_cast<uint64_t>(lost_))
         .set("relocalisations", static_cast<uint64_t>(relocalised_))
         .set("reanchors", static_cast<uint64_t>(reanchored_));
+    uint64_t withMask = 0, raised = 0;
+    std::vector<double> ages;
+    for (const auto& r : rows_)
+    {
+        raised += r.result.tracking.raisedWeights ? 1 : 0;
+        if (r.result.maskAge)
+        {
+            withMask++;
+            ages.push_back(static_cast<double>(*r.result.maskAge));
+        }
+    }
+    j.set("frames_raised_weights", raised)
+        .set("frames_with_mask", withMask)
+        .set("median_mask_age", core::upperMedianInPlace(ages, 0.0));
     return j;
 }
 
 void RunLog::addTimings(core::JsonValue& timings) const
 {
-    std::vector<double> extraction, tracking, dynamic, wait;
+    std::vector<double> extraction, tracking, dynamic, wait, semantic, maskWait;
     for (const auto& r : rows_)
     {
         extraction.push_back(r.result.tracking.timings.extraction_ms);
         tracking.push_back(r.result.tracking.timings.total_ms);
         dynamic.push_back(r.result.dynamic_ms);
         wait.push_back(r.result.queue_wait_ms);
+        semantic.push_back(r.result.semantic_ms);
+        maskWait.push_back(r.result.mask_wait_ms);
     }
     timings.set("feature_extraction", timingJson(extraction))
         .set("dynamic_filter", timingJson(dynamic))
+        .set("semantic_evidence", timingJson(semantic))
+        .set("mask_wait", timingJson(maskWait))
         .set("tracking", timingJson(tracking))
         .set("keyframe_queue_wait", timingJson(wait));
 }

@@ -40,9 +40,11 @@ public:
     /// Sets "frames", "frames_skipped", "skipped" (the first 20: index, file, reason),
     /// "duration_s", "mean_valid_depth_fraction" and "camera" in `metrics`.
     void describeInput(core::JsonValue& metrics) const;
-    /// frames_with_pose, frames_lost, relocalisations, reanchors.
+    /// frames_with_pose, frames_lost, relocalisations, reanchors, frames_raised_weights,
+    /// frames_with_mask and median_mask_age (semantic evidence).
     core::JsonValue trackingJson() const;
-    /// Sets feature_extraction, dynamic_filter, tracking and keyframe_queue_wait in `timings`.
+    /// Sets feature_extraction, dynamic_filter, semantic_evidence, mask_wait, tracking and
+    /// keyframe_queue_wait in `timings`.
     void addTimings(core::JsonValue& timings) const;
     /// Empty when at least half of the frames have a pose; otherwise how many do and the most
     /// likely reason read from the frames' statistics: (almost) no valid depth, a median depth

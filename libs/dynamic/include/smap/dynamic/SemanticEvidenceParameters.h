@@ -23,7 +23,7 @@ struct SemanticEvidenceParameters : public mrpt::config::CLoadableOptions
     /// comes earlier uses the mask before, and the frame at the latency waits for the
     /// segmentation if it is late, so that runs are reproducible. 0 = each frame uses the newest
     /// mask ready and never waits (live sensors; results then depend on timing).
-    int mask_latency = 10;
+    int mask_latency = 20;
     /// A mask older than this (frames) is not used.
     int max_mask_age = 60;
     /// The warped mask grows by dilation_px plus age_dilation_px per frame of its age (people
