@@ -128,6 +128,24 @@ bool contains(const std::string& text, const std::string& part)
 }
 }  // namespace
 
+TEST(TumSource, AnImageOfAnotherFormatIsSkippedNotDecoded)
+{
+    // Found by fuzz_tum_frame: a "PNG" whose bytes look like DICOM made OpenCV hand it to GDCM,
+    // which aborts the process on it. Only the formats a recording holds are decoded.
+    test::TempDir dir;
+    test::writeTumFolder(dir.str(), 2, 0.0, false);
+    std::string dicom(128, '\0');
+    dicom += "DICM";
+    dicom += std::string(64, '\xff');
+    std::ofstream(dir / "rgb/f1.png", std::ios::binary) << dicom;
+    io::TumSource src(dir.str(), params());
+    const auto got = outcomes(src);
+    ASSERT_EQ(got.size(), 2u);
+    EXPECT_EQ(got[0], "frame");
+    EXPECT_TRUE(contains(got[1], "rgb/f1.png: colour image is not a PNG, JPEG, PNM, TIFF or BMP"))
+        << got[1];
+}
+
 TEST(TumSource, BadImagesAreSkippedFramesNamingTheFileAndWhy)
 {
     test::TempDir dir;
@@ -150,7 +168,7 @@ TEST(TumSource, BadImagesAreSkippedFramesNamingTheFileAndWhy)
     EXPECT_TRUE(contains(got[4], "depth/f4.png: depth image is 32x24, expected 64x48")) << got[4];
     EXPECT_TRUE(contains(got[5], "depth/f5.png: depth image holds no valid depth")) << got[5];
     EXPECT_TRUE(contains(got[6], "depth/f6.png: depth image is not a 16-bit")) << got[6];
-    EXPECT_TRUE(contains(got[7], "rgb/f7.png: colour image cannot be decoded")) << got[7];
+    EXPECT_TRUE(contains(got[7], "rgb/f7.png: colour image is not a PNG, JPEG")) << got[7];
 
     // next() passes over them; the skipped frames keep their place in the indices.
     io::TumSource again(dir.str(), params());

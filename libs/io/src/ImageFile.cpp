@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
 #include <opencv2/imgcodecs.hpp>
 #include <system_error>
 
@@ -80,6 +81,30 @@ std::optional<cv::Size> imageSizeFromHeader(const std::string& bytes)
     return jpegSize(bytes);
 }
 
+namespace
+{
+/// Whether the bytes start like an image format a recording holds (PNG, JPEG, PNM, TIFF, BMP).
+/// cv::imdecode picks its decoder from the content, whatever the file's name, and some of its
+/// decoders abort the process on a damaged file (GDCM asserts on a DICOM-looking one): those
+/// are never offered anything.
+bool hasRecordingImageSignature(const std::string& b)
+{
+    const auto starts = [&b](std::initializer_list<unsigned char> magic)
+    {
+        if (b.size() < magic.size())
+            return false;
+        size_t i = 0;
+        for (const unsigned char m : magic)
+            if (static_cast<unsigned char>(b[i++]) != m)
+                return false;
+        return true;
+    };
+    return starts({0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'}) || starts({0xff, 0xd8, 0xff}) ||
+           starts({'I', 'I', '*', 0}) || starts({'M', 'M', 0, '*'}) || starts({'B', 'M'}) ||
+           (b.size() >= 2 && b[0] == 'P' && b[1] >= '1' && b[1] <= '6');
+}
+}  // namespace
+
 ImageFileRead readImageFile(const std::string& path, int flags, const cv::Size& expected)
 {
     ImageFileRead r;
@@ -100,6 +125,12 @@ ImageFileRead readImageFile(const std::string& path, int flags, const cv::Size& 
     if (bytes.empty())
     {
         r.problem = "empty (0 bytes)";
+        return r;
+    }
+    if (!hasRecordingImageSignature(bytes))
+    {
+        r.problem =
+            mrpt::format("is not a PNG, JPEG, PNM, TIFF or BMP image (%zu bytes)", bytes.size());
         return r;
     }
     const auto header = imageSizeFromHeader(bytes);
