@@ -99,6 +99,17 @@ TEST(LabelImageSegmenter, BadImagesAreErrorsNamingTheFile)
               std::string::npos);
 }
 
+TEST(LabelSet, MovableClassesByTheirDynamicPrior)
+{
+    const core::LabelSet voc = core::LabelSet::pascalVoc();
+    const std::vector<bool> m = voc.movable(0.8);
+    ASSERT_EQ(m.size(), 21U);
+    for (size_t id = 0; id < m.size(); ++id)
+        EXPECT_EQ(m[id], id == 15U) << voc[id].name;  // only person (0.9)
+    EXPECT_TRUE(voc.movable(0.5)[7]) << "car, 0.5";
+    EXPECT_FALSE(voc.movable(0.5)[9]) << "chair, 0.2";
+}
+
 TEST(LabelSet, ShippedVocTableEqualsTheBuiltInOne)
 {
     const auto shipped = core::LabelSet::loadCsv(test::sourceDir() + "/config/labels/voc.csv");

@@ -218,4 +218,11 @@ cv::Mat LabelSet::overlay(const cv::Mat& bgr, const cv::Mat& labels, double alph
     }
     return out;
 }
+std::vector<bool> LabelSet::movable(double minPrior) const
+{
+    std::vector<bool> out(labels_.size(), false);
+    for (const auto& l : labels_)
+        out[static_cast<size_t>(l.id)] = l.dynamicPrior >= minPrior;
+    return out;
+}
 }  // namespace smap::core

@@ -117,9 +117,10 @@ DynamicRegionFinder::DynamicRegionFinder(const DynamicRegionParameters& params,
         if (!name.empty())
             nonObject_.insert(labels.idOf(name));
     }
-    for (const auto& l : labels.labels())
-        if (l.dynamicPrior >= params_.movable_prior && !nonObject_.count(l.id))
-            movable_.insert(l.id);
+    const std::vector<bool> movable = labels.movable(params_.movable_prior);
+    for (size_t id = 0; id < movable.size(); ++id)
+        if (movable[id] && !nonObject_.count(static_cast<int>(id)))
+            movable_.insert(static_cast<int>(id));
 }
 
 DynamicRegions DynamicRegionFinder::find(const cv::Mat& labels, const cv::Mat& depth,

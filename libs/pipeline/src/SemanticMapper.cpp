@@ -23,11 +23,8 @@ SemanticMapper::SemanticMapper(const SemanticMapperParameters& params)
         params_.map, static_cast<size_t>(params_.pipeline.keyframe_queue));
     if (semanticEvidenceOn())
     {
-        std::vector<bool> movable(worker_->labels().size(), false);
-        for (const auto& l : worker_->labels().labels())
-            movable[static_cast<size_t>(l.id)] =
-                l.dynamicPrior >= params_.semanticEvidence.movable_prior;
-        worker_->setMaskBoard(&maskBoard_, std::move(movable),
+        worker_->setMaskBoard(&maskBoard_,
+                              worker_->labels().movable(params_.semanticEvidence.movable_prior),
                               params_.semanticEvidence.sample_step);
     }
 }
@@ -163,7 +160,7 @@ std::vector<bool> SemanticMapper::movableKeypoints(const PreparedFrame& frame,
         labelTracker_.setMask(mask->frameId(), mask->image());
         labelledMask_ = mask->frameId();
     }
-    const std::vector<dynamic::MovableLabelTracker::Label> labels =
+    const std::vector<dynamic::MovableLabelTracker::Label>& labels =
         labelTracker_.add(std::move(tracks));
     std::vector<bool> movable(kps.size(), false);
     if (!mask)

@@ -42,6 +42,9 @@ public:
     /// Id by name; throws InputError listing the known names.
     int idOf(const std::string& name) const;
 
+    /// Per class id: whether its dynamic prior is at least `minPrior` (the movable classes).
+    std::vector<bool> movable(double minPrior) const;
+
     /// Display colour of a class id (BGR); black for void and ids outside the set.
     cv::Vec3b colourOf(int id) const;
     /// BGR picture of a CV_8UC1 label image (void and unknown ids black).
