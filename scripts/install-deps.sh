@@ -18,6 +18,8 @@ packages=(
     python3 python3-numpy clang clang-format clang-tidy libclang-rt-14-dev universal-ctags
     # MRPT's own tools, to check that they read our annotated rawlogs (rawlog-edit, RawLogViewer)
     mrpt-apps
+    # packaging: cpack -G DEB computes the package's dependencies with dpkg-shlibdeps
+    dpkg-dev
 )
 
 missing=()

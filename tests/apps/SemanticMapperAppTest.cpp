@@ -1,6 +1,10 @@
 #include <gtest/gtest.h>
 #include <mrpt/core/format.h>
 #include <mrpt/io/CFileGZInputStream.h>
+#include <mrpt/opengl/COpenGLScene.h>
+#include <mrpt/opengl/CPointCloudColoured.h>
+#include <mrpt/opengl/CSetOfLines.h>
+#include <mrpt/opengl/CSetOfObjects.h>
 #include <mrpt/serialization/CArchive.h>
 
 #include <cmath>
@@ -125,14 +129,64 @@ TEST(SemanticMapperApp, RunsOnTheEmbeddedDefaultRecording)
               std::string::npos);
     EXPECT_NE(metrics.find("\"submitted\": " + std::to_string(app.result().keyframes)),
               std::string::npos);
-    for (const char* f : {"config-effective.ini", "semantic_points.ply", "semantic_octomap.ot",
-                          "semantic_octomap.bt", "semantic_map.bin", "annotated.rawlog"})
+    for (const char* f :
+         {"config-effective.ini", "semantic_points.ply", "semantic_octomap.ot",
+          "semantic_octomap.bt", "semantic_map.bin", "semantic_map.3Dscene", "annotated.rawlog"})
         EXPECT_TRUE(fs::exists(dir / (std::string("o/") + f))) << f;
     EXPECT_FALSE(fs::exists(dir / "o/snapshots/map_by_class.png")) << "output.snapshots=false";
     EXPECT_NE(out.str().find("outputs in"), std::string::npos);
     // No temporary files left behind.
     for (const auto& e : fs::directory_iterator(dir / "o"))
         EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos) << e.path();
+}
+
+// The .3Dscene output is what MRPT's SceneViewer3D opens: MRPT reads it back with the point map's
+// every point (as many as semantic_points.ply holds) and the trajectory's every step, the first
+// step's line starting at the first pose of trajectory.txt.
+TEST(SemanticMapperApp, SceneFileLoadsInMrptWithTheMapAndTheTrajectory)
+{
+    SMAP_REQUIRE_DATA(apps::SemanticMapperApp::defaultInput());
+    test::TempDir dir;
+    std::ostringstream out;
+    apps::SemanticMapperApp app;
+    app.setMinLoggingLevel(mrpt::system::LVL_WARN);
+    ASSERT_EQ(app.run(fast({"--out", dir / "o", "--set", "input.max_frames=40"}), out), 0);
+    mrpt::opengl::COpenGLScene scene;
+    ASSERT_TRUE(scene.loadFromFile(dir / "o/semantic_map.3Dscene"));
+    auto world = scene.getByClass<mrpt::opengl::CSetOfObjects>();
+    ASSERT_TRUE(world);
+    EXPECT_EQ(world->getName(), "world");
+    auto points = std::dynamic_pointer_cast<mrpt::opengl::CPointCloudColoured>(
+        world->getByName("semantic_points"));
+    auto voxels = std::dynamic_pointer_cast<mrpt::opengl::CPointCloudColoured>(
+        world->getByName("semantic_octomap"));
+    auto path =
+        std::dynamic_pointer_cast<mrpt::opengl::CSetOfLines>(world->getByName("trajectory"));
+    ASSERT_TRUE(points && voxels && path);
+    const std::string ply = smap::test::readTextFile(dir / "o/semantic_points.ply");
+    const size_t at = ply.find("element vertex ");
+    ASSERT_NE(at, std::string::npos);
+    EXPECT_EQ(points->size(), std::stoul(ply.substr(at + 15)));
+    EXPECT_GT(points->size(), 1000U);
+    EXPECT_GT(voxels->size(), 100U);
+
+    std::vector<std::array<double, 3>> poses;
+    std::istringstream lines(smap::test::readTextFile(dir / "o/trajectory.txt"));
+    for (std::string line; std::getline(lines, line);)
+        if (!line.empty() && line[0] != '#')
+        {
+            double t = 0, x = 0, y = 0, z = 0;
+            std::istringstream(line) >> t >> x >> y >> z;
+            poses.push_back({x, y, z});
+        }
+    ASSERT_GT(poses.size(), 30U);
+    EXPECT_EQ(path->getLineCount(), poses.size() - 1);
+    double x0 = 0, y0 = 0, z0 = 0, x1 = 0, y1 = 0, z1 = 0;
+    path->getLineByIndex(0, x0, y0, z0, x1, y1, z1);
+    EXPECT_NEAR(x0, poses[0][0], 1e-6);
+    EXPECT_NEAR(y0, poses[0][1], 1e-6);
+    EXPECT_NEAR(z0, poses[0][2], 1e-6);
+    EXPECT_NEAR(z1, poses[1][2], 1e-6);
 }
 
 // Acceptance: the same input and configuration twice give byte-identical trajectory and maps.

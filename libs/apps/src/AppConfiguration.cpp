@@ -61,22 +61,4 @@ void loadAppConfiguration(const CommandLine& cl,
     cfg->ensureAllKeysUsed();
 }
 
-std::string shippedModelPath()
-{
-    const std::string dir = core::dataDirectory();
-    const std::string relative = "models/espnetv2-voc/espnetv2_s2.0_voc_320x240.onnx";
-    return dir.empty() ? relative : (std::filesystem::path(dir) / relative).string();
-}
-
-bool useShippedModelIfUnset(segmentation::SegmentationParameters& params)
-{
-    if (params.backend != "onnx" || !params.onnx.model.empty())
-        return true;
-    const std::string model = shippedModelPath();
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(model, ec))
-        return false;
-    params.onnx.model = model;
-    return true;
-}
 }  // namespace smap::apps

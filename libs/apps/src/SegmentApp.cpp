@@ -84,9 +84,9 @@ int SegmentApp::run(const std::vector<std::string>& args, std::ostream& out)
     if (maxFrames > 0)
         sourceParams.max_frames = static_cast<size_t>(maxFrames);
 
-    if (!useShippedModelIfUnset(segParams))
+    if (!segmentation::useShippedModelIfUnset(segParams))
         throw core::InputError("no [onnx] model configured and the shipped model " +
-                               shippedModelPath() + " does not exist");
+                               segmentation::shippedModelPath() + " does not exist");
     auto segmenter = segmentation::makeSegmenter(segParams);
     if (!segmenter)
         throw core::InputError(

@@ -236,10 +236,10 @@ bool SemanticMapperApp::initialize(const std::vector<std::string>& args, std::os
 
 void SemanticMapperApp::chooseSegmenter()
 {
-    if (useShippedModelIfUnset(parameters.segmentation))
+    if (segmentation::useShippedModelIfUnset(parameters.segmentation))
         return;
     MRPT_LOG_WARN_STREAM("no segmentation model configured and the shipped model "
-                         << shippedModelPath()
+                         << segmentation::shippedModelPath()
                          << " does not exist (a broken installation?): keyframes are not "
                             "segmented ([segmentation] backend = none)");
     parameters.segmentation.backend = "none";
@@ -565,6 +565,7 @@ void SemanticMapperApp::writeMapOutputs(detail::MapperRun& s) const
         {
             for (auto& f : writer.writeMaps(b))
                 s.files.push_back(std::move(f));
+            s.files.push_back(writer.writeScene(b, s.trajectory));
             if (parameters.pipeline.snapshots)
                 for (auto& f : writer.writeSnapshots(b, s.trajectory))
                     s.files.push_back(std::move(f));

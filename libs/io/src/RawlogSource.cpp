@@ -7,26 +7,17 @@
 #include <mrpt/obs/CActionCollection.h>
 #include <mrpt/obs/CObservation3DRangeScan.h>
 #include <mrpt/obs/CSensoryFrame.h>
-#include <mrpt/poses/CPose3D.h>
 #include <mrpt/serialization/CArchive.h>
 
-#include <cmath>
 #include <cstdlib>
 #include <deque>
 #include <filesystem>
 #include <fstream>
 #include <new>
-#include <opencv2/imgcodecs.hpp>
-#include <opencv2/imgproc.hpp>
 #include <optional>
 
-#include "SensorExtrinsics.h"
 #include "smap/core/InputError.h"
-#include "smap/io/DepthRegistration.h"
-#include "smap/io/DepthToColour.h"
-#include "smap/io/ImageFile.h"
-#include "smap/io/RangeImageFile.h"
-#include "smap/io/TumSource.h"
+#include "smap/io/RgbdObservationConverter.h"
 
 namespace fs = std::filesystem;
 using mrpt::obs::CObservation3DRangeScan;
@@ -86,18 +77,8 @@ struct RawlogSource::Impl
     /// observation (two cameras interleaved would be one camera jumping between two places).
     std::optional<std::string> label;
     bool ended = false;
-    bool warnedDepthSize = false;
-    bool warnedColourSize = false;
 
-    DepthToColour toColour;
-    // Keyed by the depth camera it was built for.
-    std::optional<std::pair<core::PinholeCamera, std::vector<float>>> rangeToDepthCache;
-
-    std::string resolve(const std::string& file) const
-    {
-        const fs::path p(file);
-        return p.is_absolute() ? file : (fs::path(imagesDir) / p).string();
-    }
+    std::optional<RgbdObservationConverter> converter;
 
     /// Reads entries until an RGB-D observation is queued; false at the end of the file, or
     /// at damage (`damage` says where) after the first entry.
@@ -111,22 +92,6 @@ struct RawlogSource::Impl
     std::optional<mrpt::serialization::CSerializable::Ptr> readEntry();
     /// Queues an RGB-D observation when it is of the sensor read and has both images.
     void queueIfUsable(const CObservation3DRangeScan::Ptr& scan, COutputLogger& log);
-    core::RgbdFrame convert(const CObservation3DRangeScan& obs, COutputLogger& log);
-    void readColour(const CObservation3DRangeScan& obs, core::RgbdFrame& f) const;
-    cv::Mat readRawRange(const CObservation3DRangeScan& obs) const;
-    /// Depth and colour cameras and T_colour_depth: the recording's, or the configuration's.
-    struct Cameras
-    {
-        core::PinholeCamera depth, colour;
-        Eigen::Isometry3d T_colour_depth;
-    };
-    Cameras camerasOf(const CObservation3DRangeScan& obs, const cv::Mat& raw, const cv::Mat& colour,
-                      COutputLogger& log);
-    /// A camera whose size differs from its images: an error when the configuration gave it,
-    /// else the image size (warned once).
-    void fitToImage(core::PinholeCamera& cam, const cv::Mat& image, const char* kind,
-                    bool configured, bool& warned, COutputLogger& log) const;
-    const std::vector<float>& rangeToDepthFactors(const core::PinholeCamera& depthCam);
 };
 
 namespace
@@ -268,133 +233,6 @@ std::string RawlogSource::Impl::nothingUsable() const
         path.c_str(), found.empty() ? "nothing" : found.c_str(), why.c_str());
 }
 
-const std::vector<float>& RawlogSource::Impl::rangeToDepthFactors(
-    const core::PinholeCamera& depthCam)
-{
-    if (!rangeToDepthCache || !sameIntrinsics(rangeToDepthCache->first, depthCam))
-    {
-        std::vector<float> factors;
-        for (const auto& r : undistortedPixelRays(depthCam))
-            factors.push_back(1.0f / std::sqrt(1.0f + r.x * r.x + r.y * r.y));
-        rangeToDepthCache.emplace(depthCam, std::move(factors));
-    }
-    return rangeToDepthCache->second;
-}
-
-core::RgbdFrame RawlogSource::Impl::convert(const CObservation3DRangeScan& obs, COutputLogger& log)
-{
-    core::RgbdFrame f;
-    f.timestamp = mrpt::Clock::toDouble(obs.timestamp);
-    readColour(obs, f);
-    // Range image, as raw uint16 on the depth camera's grid.
-    const cv::Mat raw = readRawRange(obs);
-    const Cameras cams = camerasOf(obs, raw, f.colour, log);
-    cv::Mat depth;
-    rawDepthToMetres(raw, obs.rangeUnits, depth);
-    if (!obs.range_is_depth)
-    {
-        // Ranges are distances along each pixel's ray: z = range / |(x/z, y/z, 1)|.
-        const auto& k = rangeToDepthFactors(cams.depth);
-        auto* d = depth.ptr<float>();
-        for (size_t i = 0; i < depth.total(); i++)
-            d[i] *= k[i];
-    }
-    f.depth = toColour.onColourGrid(depth, cams.depth, cams.colour, cams.T_colour_depth);
-    f.camera = cams.colour;
-    return f;
-}
-
-void RawlogSource::Impl::readColour(const CObservation3DRangeScan& obs, core::RgbdFrame& f) const
-{
-    if (obs.intensityImage.isExternallyStored())
-    {
-        const std::string file = resolve(obs.intensityImage.getExternalStorageFile());
-        auto colour = readImageFile(file, cv::IMREAD_COLOR);
-        if (!colour.problem.empty())
-            throw core::InputError(mrpt::format("external colour image '%s' %s", file.c_str(),
-                                                colour.problem.c_str()));
-        f.colour = colour.image;
-        f.name = fs::path(file).stem().string();
-        return;
-    }
-    const cv::Mat& img = obs.intensityImage.asCvMatRef();
-    if (img.channels() == 1)
-        cv::cvtColor(img, f.colour, cv::COLOR_GRAY2BGR);
-    else if (img.channels() == 3)
-        f.colour = img.clone();
-    else if (img.channels() == 4)
-        cv::cvtColor(img, f.colour, cv::COLOR_BGRA2BGR);
-    if (f.colour.empty() || f.colour.depth() != CV_8U)
-        throw core::InputError(mrpt::format("rawlog '%s' entry %zu: unsupported intensity image",
-                                            path.c_str(), entries));
-}
-
-cv::Mat RawlogSource::Impl::readRawRange(const CObservation3DRangeScan& obs) const
-{
-    if (obs.rangeImage_isExternallyStored())
-        return readExternalRangeImage(resolve(obs.rangeImage_getExternalStorageFile("")));
-    cv::Mat raw(obs.rangeImage.rows(), obs.rangeImage.cols(), CV_16UC1);
-    for (int r = 0; r < raw.rows; r++)
-    {
-        auto* dst = raw.ptr<uint16_t>(r);
-        for (int c = 0; c < raw.cols; c++)
-            dst[c] = obs.rangeImage(r, c);
-    }
-    return raw;
-}
-
-RawlogSource::Impl::Cameras RawlogSource::Impl::camerasOf(const CObservation3DRangeScan& obs,
-                                                          const cv::Mat& raw, const cv::Mat& colour,
-                                                          COutputLogger& log)
-{
-    Cameras c{core::PinholeCamera::fromMrpt(obs.cameraParams),
-              core::PinholeCamera::fromMrpt(obs.cameraParamsIntensity),
-              colourFromDepth(obs.relativePoseIntensityWRTDepth)};
-    if (params.camera)
-    {
-        c.colour = *params.camera;
-        if (isIdentity(c.T_colour_depth))
-            c.depth = c.colour;
-    }
-    if (params.depth_camera)  // the configuration knows the sensor better than the recording
-    {
-        c.depth = *params.depth_camera;
-        c.T_colour_depth = params.T_colour_depth;
-    }
-    fitToImage(c.depth, raw, "depth", params.depth_camera.has_value(), warnedDepthSize, log);
-    fitToImage(c.colour, colour, "colour", params.camera.has_value(), warnedColourSize, log);
-    if (!c.depth.isValid() || !c.colour.isValid())
-        throw core::InputError(mrpt::format(
-            "rawlog '%s' entry %zu: invalid intrinsics (depth %s, colour %s); give a [camera] "
-            "section",
-            path.c_str(), entries, c.depth.toString().c_str(), c.colour.toString().c_str()));
-    return c;
-}
-
-void RawlogSource::Impl::fitToImage(core::PinholeCamera& cam, const cv::Mat& image,
-                                    const char* kind, bool configured, bool& warned,
-                                    COutputLogger& log) const
-{
-    if (cam.width == image.cols && cam.height == image.rows)
-        return;
-    const bool depth = std::string(kind) == "depth";
-    if (configured)
-        throw core::InputError(mrpt::format("[%s] says %dx%d but rawlog '%s' has %dx%d %s images",
-                                            depth ? "depth_camera" : "camera", cam.width,
-                                            cam.height, path.c_str(), image.cols, image.rows,
-                                            depth ? "range" : "colour"));
-    if (!warned)
-    {
-        log.logFmt(mrpt::system::LVL_WARN,
-                   "rawlog '%s': %s camera says %dx%d, %s is %dx%d; using the image size",
-                   path.c_str(), kind, cam.width, cam.height, depth ? "range image" : "image",
-                   image.cols, image.rows);
-        warned = true;
-    }
-    cam.width = image.cols;
-    cam.height = image.rows;
-}
-
 RawlogSource::RawlogSource(const std::string& path, const FrameSourceParameters& params)
     : FrameSource("RawlogSource"), impl_(std::make_unique<Impl>())
 {
@@ -419,6 +257,13 @@ RawlogSource::RawlogSource(const std::string& path, const FrameSourceParameters&
     impl_->fileSize = fs::file_size(path);
     impl_->gzipDataSize = gzipTrailerSize(path, impl_->fileSize);
     impl_->archive.emplace(impl_->stream);
+    // The converter's warnings (a camera size that differs from the images) go out as this
+    // source's.
+    impl_->converter.emplace(params, impl_->imagesDir);
+    impl_->converter->logging_enable_console_output = false;
+    impl_->converter->logRegisterCallback(
+        [this](std::string_view msg, mrpt::system::VerbosityLevel level, std::string_view,
+               mrpt::Clock::time_point) { logStr(level, msg); });
 }
 
 RawlogSource::~RawlogSource() = default;
@@ -442,12 +287,11 @@ std::optional<FrameRead> RawlogSource::read()
     const size_t index = impl_->frames++;
     try
     {
-        auto frame = impl_->convert(*obs, *this);
+        auto frame = impl_->converter->convert(
+            *obs, mrpt::format("rawlog '%s' entry %zu", impl_->path.c_str(), impl_->entries));
         frame.index = index;
         if (frame.name.empty())
             frame.name = mrpt::format("frame%06zu", index);
-        if (cv::countNonZero(frame.depth) == 0)
-            throw core::InputError("the range image holds no valid depth (every pixel 0)");
         return frame;
     }
     catch (const std::exception& e)  // InputError, or an image OpenCV cannot convert
@@ -490,12 +334,12 @@ const std::map<std::string, size_t>& RawlogSource::classCounts() const
 // pointer mrpt::aligned_malloc() returns without checking it, so a corrupt range-image size
 // (a flipped bit asking for terabytes) makes rangeImage_setSize() write through a null pointer.
 // The definition below of mrpt::aligned_malloc takes precedence over libmrpt-core's in every
-// program that links smap::io (the executable's symbol interposes the shared library's). It
+// program that links smap::io: libsmap_io comes before the MRPT libraries in the program's
+// symbol lookup order, so MRPT's own calls bind to it (LD_DEBUG=bindings shows it). It
 // allocates as MRPT's does (aligned, size rounded up to the alignment) but throws std::bad_alloc
 // when the allocation fails, which RawlogSource reports as damage. mrpt::aligned_free stays MRPT's:
 // std::free, which releases these blocks too.
-// It lives in this file, which every program reading rawlogs links, so that the static
-// library's object holding it is always part of the program.
+// It lives in this file, the reader of rawlogs, beside the code it protects.
 void* mrpt::aligned_malloc(size_t size, size_t alignment)
 {
     // As libmrpt-core 2.5: the size rounded up to a multiple of the alignment, aligned_alloc.

@@ -1,11 +1,15 @@
 #include "smap/pipeline/MapOutputWriter.h"
 
+#include <mrpt/core/bits_math.h>
 #include <mrpt/core/format.h>
 #include <mrpt/io/CFileGZOutputStream.h>
 #include <mrpt/maps/CMultiMetricMap.h>
+#include <mrpt/opengl/CGridPlaneXY.h>
+#include <mrpt/opengl/COpenGLScene.h>
 #include <mrpt/opengl/CPointCloudColoured.h>
 #include <mrpt/opengl/CSetOfLines.h>
 #include <mrpt/opengl/CSetOfObjects.h>
+#include <mrpt/poses/CPose3D.h>
 #include <mrpt/serialization/CArchive.h>
 
 #include <filesystem>
@@ -73,6 +77,78 @@ std::vector<std::string> MapOutputWriter::writeMaps(const mapping::SemanticMapBu
                               });
     files.emplace_back("semantic_map.bin");
     return files;
+}
+
+namespace
+{
+/// The map's own visualisation (a CPointCloudColoured), coloured by class, named `name`.
+mrpt::opengl::CRenderizable::Ptr byClassCloud(const mrpt::maps::CMetricMap& map,
+                                              const std::string& name, float pointSize)
+{
+    mrpt::opengl::CSetOfObjects objects;
+    map.getVisualizationInto(objects);
+    for (const auto& o : objects)
+    {
+        if (auto cloud = std::dynamic_pointer_cast<mrpt::opengl::CPointCloudColoured>(o))
+        {
+            cloud->setName(name);
+            cloud->setPointSize(pointSize);
+            return cloud;
+        }
+    }
+    throw std::logic_error(name + ": the map drew no point cloud");
+}
+
+mrpt::opengl::CSetOfLines::Ptr trajectoryLines(const core::Trajectory& trajectory)
+{
+    auto lines = mrpt::opengl::CSetOfLines::Create();
+    lines->setName("trajectory");
+    lines->setLineWidth(3.0F);
+    lines->setColor_u8(255, 0, 255);
+    for (size_t i = 1; i < trajectory.size(); ++i)
+    {
+        const auto& a = trajectory[i - 1].T_world_cam;
+        const auto& b = trajectory[i].T_world_cam;
+        lines->appendLine(a.x(), a.y(), a.z(), b.x(), b.y(), b.z());
+    }
+    return lines;
+}
+}  // namespace
+
+std::string MapOutputWriter::writeScene(const mapping::SemanticMapBuilder& m,
+                                        const core::Trajectory& trajectory) const
+{
+    // The map frame is the first camera's optical frame (x right, y down, z forward): turned
+    // by -90 degrees about x, its "up" (-y) becomes the scene's z.
+    auto world = mrpt::opengl::CSetOfObjects::Create();
+    world->setName("world");
+    world->setPose(mrpt::poses::CPose3D(0, 0, 0, 0, 0, mrpt::DEG2RAD(-90.0)));
+    if (m.parameters().points_map)
+    {
+        maps::CSemanticPointsMap byClass = m.pointsMap();
+        byClass.renderOptions.colour_by_class = true;
+        world->insert(byClassCloud(byClass, "semantic_points", 2.0F));
+    }
+    if (m.parameters().octomap)
+    {
+        maps::CSemanticOctoMap byClass = m.octoMap();
+        byClass.renderOptions.colour_by_class = true;
+        auto voxels = byClassCloud(byClass, "semantic_octomap", 4.0F);
+        voxels->setVisibility(!m.parameters().points_map);  // one map shown at a time
+        world->insert(voxels);
+    }
+    world->insert(trajectoryLines(trajectory));
+    mrpt::opengl::COpenGLScene scene;
+    scene.insert(mrpt::opengl::CGridPlaneXY::Create(-5, 5, -5, 5, 0, 1));
+    scene.insert(world);
+    const std::string path = (fs::path(dir_) / "semantic_map.3Dscene").string();
+    core::writeFileAtomically(path,
+                              [&](const std::string& tmp)
+                              {
+                                  if (!scene.saveToFile(tmp))
+                                      throw std::runtime_error("cannot write " + path);
+                              });
+    return "semantic_map.3Dscene";
 }
 
 std::vector<std::string> MapOutputWriter::writeSnapshots(const mapping::SemanticMapBuilder& m,

@@ -2,6 +2,10 @@
 
 #include <mrpt/config/CConfigFileBase.h>
 
+#include <filesystem>
+#include <system_error>
+
+#include "smap/core/DataDirectory.h"
 #include "smap/core/InputError.h"
 #include "smap/segmentation/CrfSegmenter.h"
 
@@ -37,14 +41,37 @@ core::LabelSet loadLabelSet(const SegmentationParameters& params)
                                  : core::LabelSet::loadCsv(params.labels);
 }
 
+std::string shippedModelPath()
+{
+    const std::string dir = core::dataDirectory();
+    const std::string relative = "models/espnetv2-voc/espnetv2_s2.0_voc_320x240.onnx";
+    return dir.empty() ? relative : (std::filesystem::path(dir) / relative).string();
+}
+
+bool useShippedModelIfUnset(SegmentationParameters& params)
+{
+    if (params.backend != "onnx" || !params.onnx.model.empty())
+        return true;
+    const std::string model = shippedModelPath();
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(model, ec))
+        return false;
+    params.onnx.model = model;
+    return true;
+}
+
 std::unique_ptr<Segmenter> makeSegmenter(const SegmentationParameters& params)
 {
     if (params.backend == "none")
         return nullptr;
     core::LabelSet labels = loadLabelSet(params);
     std::unique_ptr<Segmenter> s;
+    SegmentationParameters withModel = params;
+    if (params.backend == "onnx" && !useShippedModelIfUnset(withModel))
+        throw core::InputError("no [onnx] model configured and the shipped model " +
+                               shippedModelPath() + " does not exist");
     if (params.backend == "onnx")
-        s = std::make_unique<OnnxSegmenter>(params.onnx, std::move(labels));
+        s = std::make_unique<OnnxSegmenter>(withModel.onnx, std::move(labels));
     else
         s = std::make_unique<LabelImageSegmenter>(params.label_images, std::move(labels));
     if (params.crf.enabled)

@@ -25,13 +25,4 @@ void loadAppConfiguration(const CommandLine& cl,
                           const std::vector<mrpt::config::CLoadableOptions*>& params,
                           const std::string& input, mrpt::system::COutputLogger& log);
 
-/// The segmentation model that ships with the project, in the data folder
-/// (core::dataDirectory(): models/espnetv2-voc/espnetv2_s2.0_voc_320x240.onnx), whether or not
-/// it exists there.
-std::string shippedModelPath();
-
-/// With [segmentation] backend = onnx and no [onnx] model configured: sets the shipped model
-/// and returns true, or returns false when it is not there (a broken installation) and leaves
-/// `params` as they are. True without a change for every other configuration.
-bool useShippedModelIfUnset(segmentation::SegmentationParameters& params);
 }  // namespace smap::apps

@@ -33,7 +33,18 @@ struct SegmentationParameters : public mrpt::config::CLoadableOptions
 /// The label set of `params` (loaded from its CSV, or PASCAL VOC).
 core::LabelSet loadLabelSet(const SegmentationParameters& params);
 
-/// The configured backend, wrapped in the dense CRF when [crf] enabled; nullptr for "none". Throws
-/// core::InputError for a bad model, folder or label table.
+/// The segmentation model that ships with the project, in the data folder
+/// (core::dataDirectory(): models/espnetv2-voc/espnetv2_s2.0_voc_320x240.onnx), whether or not
+/// it exists there.
+std::string shippedModelPath();
+
+/// With backend = onnx and no [onnx] model configured: sets the shipped model and returns true,
+/// or returns false when it is not there (a broken installation) and leaves `params` as they
+/// are. True without a change for every other configuration.
+bool useShippedModelIfUnset(SegmentationParameters& params);
+
+/// The configured backend, wrapped in the dense CRF when [crf] enabled; nullptr for "none". An
+/// onnx backend without a model uses the shipped one (useShippedModelIfUnset). Throws
+/// core::InputError for a bad or missing model, folder or label table.
 std::unique_ptr<Segmenter> makeSegmenter(const SegmentationParameters& params);
 }  // namespace smap::segmentation
