@@ -10,10 +10,29 @@ coverage (its points with a MAP point within --distance: what removing the peopl
 Both maps must share the world frame, which semantic-mapper's do when both runs start at the
 same frame (world = first tracked camera).
 
+With --people COMPOSITE (an smap-synth --composite-onto folder), the ghosts are also split by
+where they are: "where a person was" are those within 0.5 m of the vertical axis of a person
+(from the feet up to 2 m, along meta.json's world_up) at some frame of objects/person*.txt,
+the issue's definition of people left in the map (points where a person was that the
+people-free run does not produce); the rest are the two runs' other differences. The map is
+put in the composite's world frame by the run's trajectory.txt beside it (its first pose
+against the composite's groundtruth.txt).
+
+Octomaps too: given semantic_octomap.bt files (OctoMap's binary format, occupancy only), the
+occupied voxels are compared the same way by their centres, a voxel being a ghost when no
+occupied voxel of the people-free octomap lies within max(--distance, 1.5 x resolution) (its
+own place or a face or edge neighbour); labels are not in .bt files.
+
 Needs Open3D (Debian python3-open3d) and numpy.
 Usage: bench/map_ghosts.py PEOPLE_FREE.ply MAP.ply [MAP.ply ...] [--distance 0.05]
+                           [--people COMPOSITE_DIR]
+       bench/map_ghosts.py PEOPLE_FREE.bt MAP.bt [MAP.bt ...] [--distance 0.05]
+                           [--people COMPOSITE_DIR]
 """
 import argparse
+import glob
+import json
+import os
 import sys
 
 import numpy as np
@@ -44,6 +63,123 @@ def read_map(path):
     return np.frombuffer(data[start:start + count * VERTEX.itemsize], dtype=VERTEX)
 
 
+def read_octomap_occupied(path):
+    """Centres of the occupied leaves of an OctoMap .bt file (tree depth 16), an N x 3 array,
+    and the resolution. Pruned occupied leaves are expanded into voxels of the resolution."""
+    with open(path, "rb") as f:
+        data = f.read()
+    if not data.startswith(b"# Octomap OcTree binary file"):
+        sys.exit("%s: not an OctoMap binary (.bt) file" % path)
+    res, pos = None, 0
+    while True:
+        end = data.index(b"\n", pos)
+        line = data[pos:end].decode("ascii", "replace").strip()
+        pos = end + 1
+        if line.startswith("res "):
+            res = float(line.split()[1])
+        if line == "data":
+            break
+    if res is None:
+        sys.exit("%s: no resolution in the header" % path)
+    depth_max, half_range = 16, 1 << 15
+    occupied = []  # (key min corner, depth) of occupied leaves
+    stack = [((0, 0, 0), 0)]  # nodes whose two child bytes come next, depth-first
+    while stack:
+        corner, depth = stack.pop()
+        bits = data[pos] | (data[pos + 1] << 8)
+        pos += 2
+        size = 1 << (depth_max - depth - 1)  # a child's edge in keys
+        inner = []
+        for i in range(8):
+            code = (bits >> (2 * i)) & 3
+            child = tuple(corner[a] + (size if (i >> a) & 1 else 0) for a in range(3))
+            if code == 2:  # bits "01": occupied leaf
+                occupied.append((child, depth + 1))
+            elif code == 3:  # inner node: its children follow, in child order
+                inner.append((child, depth + 1))
+        stack.extend(reversed(inner))
+    centres = []
+    for (kx, ky, kz), depth in occupied:
+        n = 1 << (depth_max - depth)
+        r = np.arange(n)
+        g = np.stack(np.meshgrid(kx + r, ky + r, kz + r, indexing="ij"), axis=-1).reshape(-1, 3)
+        centres.append((g - half_range + 0.5) * res)
+    return (np.concatenate(centres) if centres else np.zeros((0, 3))), res
+
+
+def read_tum(path):
+    """timestamp -> (R, t) of a TUM trajectory file (T_world_cam)."""
+    poses = {}
+    for line in open(path):
+        if line.startswith("#") or not line.strip():
+            continue
+        v = [float(x) for x in line.split()]
+        x, y, z, w = v[4:8]
+        rot = np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+                        [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+                        [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
+        poses[round(v[0], 4)] = (rot, np.array(v[1:4]))
+    return poses
+
+
+class PeoplePaths:
+    """Where the composite's people were: their feet positions (every frame) and world up."""
+
+    RADIUS, HEIGHT = 0.5, 2.0
+
+    def __init__(self, composite):
+        self.truth = read_tum(os.path.join(composite, "groundtruth.txt"))
+        self.up = np.array(json.load(open(os.path.join(composite, "meta.json")))["world_up"])
+        feet = [t for f in sorted(glob.glob(os.path.join(composite, "objects", "person*.txt")))
+                for _, t in read_tum(f).values()]
+        if not feet:
+            sys.exit("%s: no objects/person*.txt" % composite)
+        self.feet = np.array(feet)
+
+    def to_world(self, points, map_path):
+        """The map's points in the composite's world frame, by the run's first pose."""
+        run = read_tum(os.path.join(os.path.dirname(map_path) or ".", "trajectory.txt"))
+        stamp = next((t for t in sorted(run) if t in self.truth), None)
+        if stamp is None:
+            sys.exit("%s: its trajectory.txt shares no timestamp with the ground truth"
+                     % map_path)
+        (r_est, t_est), (r_gt, t_gt) = run[stamp], self.truth[stamp]
+        rot = r_gt @ r_est.T  # T_world_map = T_world_cam(truth) * T_map_cam(run)^-1
+        return points @ rot.T + (t_gt - rot @ t_est)
+
+    def near(self, world):
+        """Per point: within RADIUS of a person's axis (feet to HEIGHT) at some frame."""
+        out = np.zeros(len(world), dtype=bool)
+        for start in range(0, len(world), 2000):
+            p = world[start:start + 2000, None, :] - self.feet[None, :, :]
+            h = p @ self.up
+            radial = np.linalg.norm(p - h[..., None] * self.up, axis=2)
+            out[start:start + 2000] = ((h >= 0) & (h <= self.HEIGHT) &
+                                       (radial <= self.RADIUS)).any(axis=1)
+        return out
+
+
+def people_text(people, points, ghost, map_path):
+    if people is None:
+        return ""
+    near = people.near(people.to_world(points[ghost], map_path))
+    return "; where a person was %d (%.2f %%), elsewhere %d" % (
+        near.sum(), 100.0 * near.sum() / max(1, len(points)), (~near).sum())
+
+
+def octomap_ghosts(reference, paths, distance, people):
+    ref_centres, res = read_octomap_occupied(reference)
+    ref = o3d.geometry.PointCloud(o3d.utility.Vector3dVector(ref_centres))
+    for path in paths:
+        centres, _ = read_octomap_occupied(path)
+        vox = o3d.geometry.PointCloud(o3d.utility.Vector3dVector(centres))
+        to_ref = np.asarray(vox.compute_point_cloud_distance(ref))
+        ghost = to_ref > max(distance, 1.5 * res)
+        print("%s: %d occupied voxels, ghosts %d (%.2f %%)%s"
+              % (path, len(centres), ghost.sum(), 100.0 * ghost.mean() if len(centres) else 0.0,
+                 people_text(people, centres, ghost, path)))
+
+
 def cloud(v):
     return o3d.geometry.PointCloud(o3d.utility.Vector3dVector(
         np.stack([v["x"], v["y"], v["z"]], axis=1).astype(np.float64)))
@@ -54,7 +190,12 @@ def main():
     ap.add_argument("reference")
     ap.add_argument("maps", nargs="+")
     ap.add_argument("--distance", type=float, default=0.05, help="metres (default 0.05)")
+    ap.add_argument("--people", help="the composite folder: split ghosts by where people were")
     a = ap.parse_args()
+    people = PeoplePaths(a.people) if a.people else None
+    if a.reference.endswith(".bt"):
+        octomap_ghosts(a.reference, a.maps, a.distance, people)
+        return
     ref = cloud(read_map(a.reference))
     for path in a.maps:
         v = read_map(path)
@@ -63,10 +204,11 @@ def main():
         to_map = np.asarray(ref.compute_point_cloud_distance(pts))
         ghost = to_ref > a.distance
         labels, counts = np.unique(v["label"][ghost], return_counts=True)
-        print("%s: %d points, ghosts %d (%.2f %%; labels %s), people-free map covered %.2f %%"
+        print("%s: %d points, ghosts %d (%.2f %%; labels %s), people-free map covered %.2f %%%s"
               % (path, len(v), ghost.sum(), 100.0 * ghost.mean(),
                  ", ".join("%d: %d" % lc for lc in zip(labels.tolist(), counts.tolist())),
-                 100.0 * (to_map <= a.distance).mean()))
+                 100.0 * (to_map <= a.distance).mean(),
+                 people_text(people, np.asarray(pts.points), ghost, path)))
 
 
 if __name__ == "__main__":

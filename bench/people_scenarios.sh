@@ -1,14 +1,18 @@
 #!/usr/bin/env bash
 # Table II of issue 34: the kinds of human motion, composited into the 7-Scenes frames
-# (smap-synth --composite-onto --scenario, colour camera geometry, SfM poses; cached under
-# $SMAP_EVAL_CACHE, default /tmp/smap-eval-cache), each tracked without people (the same frames
-# of the original recording), with the filter off, in the paper's mode, in the default mode
-# without semantic evidence, and in the default mode. Prints a Markdown table: frames with a
-# pose, ATE RMSE against the SfM reference, whether it is within max(1.5 x, + 1 cm) of the
-# people-free run, dynamic-keypoint recall / precision (default modes), and the people left in
-# the point map (bench/map_ghosts.py against the people-free map; default modes).
+# (smap-synth --composite-onto --scenario, colour camera geometry, SfM poses), and the synthetic
+# presets with people (smap-synth --preset); sequences cached under $SMAP_EVAL_CACHE (default
+# /tmp/smap-eval-cache). Each is tracked without people (the same frames of the original
+# recording; for a preset its static twin, the same camera motion in the same room), with the
+# filter off, in the paper's mode, in the default mode without semantic evidence, and in the
+# default mode. Prints a Markdown table: frames with a pose, ATE RMSE against the ground truth
+# (the SfM reference for 7-Scenes), whether it is within max(1.5 x, + 1 cm) of the people-free
+# run, dynamic-keypoint recall / precision (default modes), and the people left in the point
+# map and in the octomap's occupied voxels (bench/map_ghosts.py against the people-free maps,
+# with the share where a person was on the composites; default modes).
 # Usage: bench/people_scenarios.sh [BUILD_DIR] [extra semantic-mapper args...]
 #   SMAP_SCENARIOS="NAME:FRAMES ..." (default: crossing:300 crowd:234 seated:500 stop_and_stay:450)
+#   SMAP_PRESETS="NAME ..." (default: walking_xyz walking_halfsphere sitting_xyz; 300 frames)
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 build="${1:-$root/build}"
@@ -18,7 +22,8 @@ shared="${SMAP_SHARED:-$root/../shared}"
 kitchen="$shared/data/7scenes-redkitchen"
 people="$shared/data/people"
 cache="${SMAP_EVAL_CACHE:-/tmp/smap-eval-cache}"
-scenarios="${SMAP_SCENARIOS:-crossing:300 crowd:234 seated:500 stop_and_stay:450}"
+scenarios="${SMAP_SCENARIOS-crossing:300 crowd:234 seated:500 stop_and_stay:450}"
+presets="${SMAP_PRESETS-walking_xyz walking_halfsphere sitting_xyz}"
 for d in "$kitchen" "$people"; do
     [ -d "$d" ] || { echo "people_scenarios.sh: $d not found (set SMAP_SHARED)" >&2; exit 2; }
 done
@@ -39,15 +44,61 @@ keypoints() {
     "$bin/smap-eval" keypoints "$1/dynamic" "$2/dynamic" |
         awk '/recall/ {printf "%.3f / %.3f", $4, $6}'
 }
-ghosts() {
-    "${SMAP_SYSTEM_PYTHON:-/usr/bin/python3}" "$root/bench/map_ghosts.py" \
-        "$1/semantic_points.ply" "$2/semantic_points.ply" |
-        awk '/ghosts/ {for (i = 1; i <= NF; i++) if ($i == "ghosts") {print $(i + 2); exit}}' |
-        tr -d '(;'
+ghosts() {  # free run, run, map file [composite] -> "x.xx %" [" (y.yy % where a person was)"]
+    local people=()
+    [ -n "${4:-}" ] && people=(--people "$4")
+    "${SMAP_SYSTEM_PYTHON:-/usr/bin/python3}" "$root/bench/map_ghosts.py" "$1/$3" "$2/$3" "${people[@]}" |
+        awk '/ghosts/ {for (i = 1; i <= NF; i++) {
+                 if ($i == "ghosts") all = $(i + 2)
+                 if ($i == "was") near = $(i + 2)}
+             gsub(/[(;]/, "", all); gsub(/[(;]/, "", near)
+             printf "%s %%", all
+             if (near != "") printf " (%s %% where a person was)", near
+             exit}'
+}
+twin() {
+    case "$1" in
+        walking_xyz | sitting_xyz) echo static_xyz ;;
+        walking_halfsphere | sitting_halfsphere) echo static_halfsphere ;;
+        walking_rpy) echo static_rpy ;;
+        walking_static) echo static_static ;;
+        *) echo "people_scenarios.sh: no static twin for preset $1" >&2; exit 2 ;;
+    esac
+}
+render() {  # preset -> its folder (300 frames, cached)
+    local dir="$cache/$1-300"
+    [ -f "$dir/groundtruth.txt" ] ||
+        "$bin/smap-synth" --preset "$1" --out "$dir" --frames 300 --no-rawlog >/dev/null
+    echo "$dir"
 }
 
-echo "| scenario | frames | run | with pose | ATE (m) | within max(1.5x, +1 cm) of no people | keypoints recall / precision | people left in point map |"
-echo "|---|---|---|---|---|---|---|---|"
+# rows NAME FRAMES DIR CONFIG FREE_RUN FREE_ATE COMPOSITE|"" [args]: the four runs with people
+rows() {
+    local name="$1" frames="$2" dir="$3" config="$4" free="$5" freeAte="$6" composite="$7"
+    shift 7
+    for run in off paper default-no-semantic default; do
+        local o="$out/$name-$run"
+        case "$run" in
+            off) track "$dir" "$config" "$o" --set dynamic.mode=off "$@" ;;
+            paper) track "$dir" "$config" "$o" --config "$root/config/modes/paper.ini" "$@" ;;
+            default-no-semantic)
+                track "$dir" "$config" "$o" --dynamic-debug all \
+                    --set semantic_evidence.enabled=false "$@" ;;
+            default) track "$dir" "$config" "$o" --dynamic-debug all "$@" ;;
+        esac
+        local ate kp="-" gh="-" go="-"
+        ate="$(rmse "$dir/groundtruth.txt" "$o/trajectory.txt")"
+        if [ -d "$o/dynamic" ]; then
+            kp="$(keypoints "$dir" "$o")"
+            gh="$(ghosts "$free" "$o" semantic_points.ply "$composite")"
+            go="$(ghosts "$free" "$o" semantic_octomap.bt "$composite")"
+        fi
+        echo "| $name | $frames | $run | $(grep -vc '^#' "$o/trajectory.txt") | $ate | $(within "$ate" "$freeAte") | $kp | $gh | $go |"
+    done
+}
+
+echo "| sequence | frames | run | with pose | ATE (m) | within max(1.5x, +1 cm) of no people | keypoints recall / precision | people left in point map | in octomap (occupied voxels) |"
+echo "|---|---|---|---|---|---|---|---|---|"
 for s in $scenarios; do
     name="${s%%:*}" frames="${s##*:}"
     dir="$cache/scen-$name"
@@ -60,24 +111,17 @@ for s in $scenarios; do
     free="$out/$name-free"
     track "$kitchen" "$root/config/7scenes.ini" "$free" --set "input.max_frames=$frames" "$@"
     freeAte="$(rmse "$dir/groundtruth.txt" "$free/trajectory.txt")"
-    echo "| $name | $frames | no people | $(grep -vc '^#' "$free/trajectory.txt") | $freeAte | - | - | - |"
-    for run in off paper default-no-semantic default; do
-        o="$out/$name-$run"
-        case "$run" in
-            off) track "$dir" "$dir/camera.ini" "$o" --set dynamic.mode=off "$@" ;;
-            paper) track "$dir" "$dir/camera.ini" "$o" --config "$root/config/modes/paper.ini" "$@" ;;
-            default-no-semantic)
-                track "$dir" "$dir/camera.ini" "$o" --dynamic-debug all \
-                    --set semantic_evidence.enabled=false "$@" ;;
-            default) track "$dir" "$dir/camera.ini" "$o" --dynamic-debug all "$@" ;;
-        esac
-        ate="$(rmse "$dir/groundtruth.txt" "$o/trajectory.txt")"
-        kp="-" gh=""
-        if [ -d "$o/dynamic" ]; then
-            kp="$(keypoints "$dir" "$o")"
-            gh="$(ghosts "$free" "$o")"
-        fi
-        [ -n "$gh" ] && gh="$gh %" || gh="-"
-        echo "| $name | $frames | $run | $(grep -vc '^#' "$o/trajectory.txt") | $ate | $(within "$ate" "$freeAte") | $kp | $gh |"
-    done
+    echo "| $name | $frames | no people | $(grep -vc '^#' "$free/trajectory.txt") | $freeAte | - | - | - | - |"
+    rows "$name" "$frames" "$dir" "$dir/camera.ini" "$free" "$freeAte" "$dir" "$@"
+done
+synthetic="$root/config/synthetic.ini"
+for p in $presets; do
+    dir="$(render "$p")"
+    t="$(twin "$p")"
+    tdir="$(render "$t")"
+    free="$out/$p-free"
+    track "$tdir" "$synthetic" "$free" "$@"
+    freeAte="$(rmse "$tdir/groundtruth.txt" "$free/trajectory.txt")"
+    echo "| $p | 300 | no people ($t) | $(grep -vc '^#' "$free/trajectory.txt") | $freeAte | - | - | - | - |"
+    rows "$p" 300 "$dir" "$synthetic" "$free" "$freeAte" "" "$@"
 done
