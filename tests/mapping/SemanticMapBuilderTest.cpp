@@ -193,6 +193,74 @@ TEST(SemanticMapBuilder, PruningNearMoversDropsOnlyWhatStoodBesideAMover)
     EXPECT_EQ(off.pruneFreePoints(), 0U);
 }
 
+TEST(SemanticMapBuilder, NearAMoverOnlyWhatTwoKeyframesSawEntersTheMaps)
+{
+    // Keyframe 0: patch A 1 m in front, right beside pixels the dynamic mask caught (a person),
+    // and patch B 1 m in front, 0.4 m away from them. The next keyframe either does not see
+    // that part of the view (no depth there: A was seen once, as a missed part of a walking
+    // person is), or sees A again where it was: 20 frames later (a static surface beside the
+    // person), or 5 frames later (less than confirm_span: a person there would not have moved).
+    maps::BackProjector::Images first = wall();
+    first.dynamicMask.setTo(0);
+    first.depth(cv::Rect(32, 15, 8, 20)).setTo(1.0f);  // A: x -0.09 .. 0 m
+    first.depth(cv::Rect(40, 15, 6, 20)).setTo(1.0f);  // the mover beside it
+    first.dynamicMask(cv::Rect(40, 15, 6, 20)).setTo(255);
+    first.depth(cv::Rect(0, 45, 10, 10)).setTo(1.0f);  // B: x -0.5 .. -0.39 m
+    maps::BackProjector::Images elsewhere = wall();
+    elsewhere.dynamicMask.setTo(0);
+    elsewhere.depth(cv::Rect(28, 10, 22, 30)).setTo(0.0f);  // A and the mover not seen
+    maps::BackProjector::Images again = first;  // its own pixels (cv::Mat copies share them)
+    again.depth = first.depth.clone();
+    again.dynamicMask = cv::Mat(first.dynamicMask.size(), CV_8UC1, cv::Scalar(0));
+    again.depth(cv::Rect(40, 15, 6, 20)).setTo(0.0f);  // A seen again, the mover gone
+    const auto count = [](const std::vector<Eigen::Vector3f>& pts, float xMin, float xMax)
+    {
+        size_t n = 0;
+        for (const auto& q : pts)
+            n += q.z() < 1.5f && q.x() >= xMin && q.x() < xMax ? 1 : 0;
+        return n;
+    };
+    const auto points = [](const maps::CSemanticPointsMap& m)
+    {
+        std::vector<Eigen::Vector3f> out;
+        for (const auto& q : m.points())
+            out.push_back(q.position);
+        return out;
+    };
+    const auto voxels = [](const maps::CSemanticOctoMap& m)
+    {
+        std::vector<Eigen::Vector3f> out;
+        for (const auto& v : m.occupiedVoxels())
+            out.push_back(v.centre);
+        return out;
+    };
+    for (const auto& [seenAgain, frame] : {std::pair{false, 20}, {true, 20}, {true, 5}})
+    {
+        const bool seenTwice = seenAgain && frame >= 15;
+        mapping::MapBuilderParameters p;
+        p.prune_near_movers = 0.1;
+        ASSERT_EQ(p.confirm_span, 15);
+        mapping::SemanticMapBuilder b(p, core::LabelSet::pascalVoc());
+        b.add(0, 0, 0.0, first, camera(), mrpt::poses::CPose3D());
+        b.add(1, static_cast<uint64_t>(frame), frame / 30.0, seenAgain ? again : elsewhere,
+              camera(), mrpt::poses::CPose3D());
+        const size_t a = count(points(b.pointsMap()), -0.2f, 0.05f);
+        const size_t boxB = count(points(b.pointsMap()), -1.0f, -0.35f);
+        const size_t aVoxels = count(voxels(b.octoMap()), -0.2f, 0.05f);
+        const size_t wall = b.pointsMap().size() - a - boxB;
+        ASSERT_GT(a, 20U);
+        ASSERT_GT(boxB, 20U);
+        ASSERT_GT(aVoxels, 0U);
+        const size_t dropped = b.dropUnconfirmedNearMovers();
+        EXPECT_EQ(count(points(b.pointsMap()), -0.2f, 0.05f), seenTwice ? a : 0U) << seenTwice;
+        EXPECT_EQ(count(voxels(b.octoMap()), -0.2f, 0.05f), seenTwice ? aVoxels : 0U)
+            << seenTwice;
+        EXPECT_EQ(seenTwice, dropped == 0U) << dropped;
+        EXPECT_EQ(count(points(b.pointsMap()), -1.0f, -0.35f), boxB) << "far from the mover";
+        EXPECT_EQ(b.pointsMap().size() - count(points(b.pointsMap()), -1.0f, 0.05f), wall);
+    }
+}
+
 TEST(SemanticMapBuilder, ALabelFileOfThirtyClassesKeepsClass25AndItsColour)
 {
     // A label file beyond PASCAL VOC's 21 classes: class 25 must reach both maps (the octomap's

@@ -350,7 +350,8 @@ core::JsonValue mapSummary(const detail::MapperRun& s)
         .set("rebuilt", s.reanchor.rebuilt)
         .set("max_keyframe_correction_m", s.reanchor.maxTranslation)
         .set("max_keyframe_correction_deg", s.reanchor.maxRotationDeg)
-        .set("pruned_free_points", static_cast<uint64_t>(s.reanchor.pruned));
+        .set("pruned_free_points", static_cast<uint64_t>(s.reanchor.pruned))
+        .set("unconfirmed_near_movers", static_cast<uint64_t>(s.reanchor.unconfirmed));
     return mapj;
 }
 

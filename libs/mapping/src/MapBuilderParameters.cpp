@@ -21,6 +21,19 @@ void MapBuilderParameters::loadFromConfigFile(const mrpt::config::CConfigFileBas
     if (!(prune_near_movers >= 0.0 && prune_near_movers <= 2.0))
         throw core::InputError(mrpt::format(
             "[map] prune_near_movers = %g must be in [0, 2] m (0: off)", prune_near_movers));
+    confirm_near_movers = cfg.read_int(s, "confirm_near_movers", confirm_near_movers);
+    confirm_radius = cfg.read_double(s, "confirm_radius", confirm_radius);
+    confirm_span = cfg.read_int(s, "confirm_span", confirm_span);
+    if (confirm_span < 0)
+        throw core::InputError(
+            mrpt::format("[map] confirm_span = %d must be >= 0 frames", confirm_span));
+    if (confirm_near_movers < 0 || confirm_near_movers > 16)
+        throw core::InputError(mrpt::format(
+            "[map] confirm_near_movers = %d must be in [0, 16] keyframes (0 or 1: off)",
+            confirm_near_movers));
+    if (!(confirm_radius > 0.0 && confirm_radius <= 1.0))
+        throw core::InputError(
+            mrpt::format("[map] confirm_radius = %g must be in (0, 1] m", confirm_radius));
     if (!(contribution_voxel >= 0.0 && contribution_voxel <= 1.0))
         throw core::InputError(
             mrpt::format("[map] contribution_voxel = %g must be in [0, 1] m (0: no thinning)",
@@ -44,6 +57,9 @@ void MapBuilderParameters::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
     cfg.write(s, "reanchor_rotation_deg", reanchor_rotation_deg);
     cfg.write(s, "prune_free_points", prune_free_points);
     cfg.write(s, "prune_near_movers", prune_near_movers);
+    cfg.write(s, "confirm_near_movers", confirm_near_movers);
+    cfg.write(s, "confirm_radius", confirm_radius);
+    cfg.write(s, "confirm_span", confirm_span);
     pointsMap.saveToConfigFile(cfg, "points_map");
     octoMap.saveToConfigFile(cfg, "octomap");
 }

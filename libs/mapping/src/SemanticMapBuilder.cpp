@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <memory>
+#include <unordered_map>
 #include <unordered_set>
 
 namespace smap::mapping
@@ -63,7 +65,7 @@ const KeyFrameContribution& SemanticMapBuilder::add(uint64_t keyframe, uint64_t 
     return contributions_.back();
 }
 
-void SemanticMapBuilder::insert(const KeyFrameContribution& c)
+std::vector<maps::SemanticPoint> SemanticMapBuilder::toWorld(const KeyFrameContribution& c)
 {
     std::vector<maps::SemanticPoint> world;
     world.reserve(c.points_cam.size());
@@ -76,6 +78,24 @@ void SemanticMapBuilder::insert(const KeyFrameContribution& c)
             Eigen::Vector3f(static_cast<float>(x), static_cast<float>(y), static_cast<float>(z));
         world.push_back(w);
     }
+    return world;
+}
+
+void SemanticMapBuilder::insert(const KeyFrameContribution& c,
+                                const std::function<bool(const Eigen::Vector3f&)>& keep)
+{
+    std::vector<maps::SemanticPoint> world = toWorld(c);
+    std::vector<float> depth;  // camera-frame z of each kept point
+    depth.reserve(world.size());
+    size_t kept = 0;
+    for (size_t i = 0; i < world.size(); ++i)
+    {
+        if (keep && !keep(world[i].position))
+            continue;
+        world[kept++] = world[i];
+        depth.push_back(c.points_cam[i].position.z());
+    }
+    world.resize(kept);
     if (params_.points_map)
         pointsMap_.insertPoints(world);
     if (params_.octomap)
@@ -86,8 +106,7 @@ void SemanticMapBuilder::insert(const KeyFrameContribution& c)
         rays.reserve(world.size());
         for (size_t i = 0; i < world.size(); ++i)
         {
-            const float z = c.points_cam[i].position.z();
-            if (z >= proj.min_depth && z <= proj.max_depth)
+            if (depth[i] >= proj.min_depth && depth[i] <= proj.max_depth)
                 rays.push_back(world[i]);
         }
         octoMap_.insertPoints(rays, Eigen::Vector3f(static_cast<float>(c.T_world_cam.x()),
@@ -187,6 +206,82 @@ size_t SemanticMapBuilder::pruneFreePoints()
         return pointsMap_.removeIf(carved);
     const auto near = nearMovers();
     return pointsMap_.removeIf([&](const Eigen::Vector3f& p) { return near(p) && carved(p); });
+}
+
+size_t SemanticMapBuilder::dropUnconfirmedNearMovers()
+{
+    const auto needed = static_cast<size_t>(params_.confirm_near_movers);
+    if (needed < 2 || !(params_.prune_near_movers > 0.0) || contributions_.empty())
+        return 0;
+    const auto near = nearMovers();
+    const double edge = params_.confirm_radius;
+    const auto key = [edge](int64_t x, int64_t y, int64_t z)
+    {
+        constexpr int64_t kMask = (1 << 21) - 1;
+        return ((x & kMask) << 42) | ((y & kMask) << 21) | (z & kMask);
+    };
+    const auto cell = [edge](float a) { return static_cast<int64_t>(std::floor(a / edge)); };
+    // Per voxel near movers: the distinct keyframes (contribution indices) that put a point in
+    // it, at most `needed`, and the first and last frame among all of them.
+    struct Seen
+    {
+        std::vector<uint32_t> keyframes;
+        uint64_t firstFrame = UINT64_MAX, lastFrame = 0;
+    };
+    std::unordered_map<int64_t, Seen> seenBy;
+    std::vector<std::vector<maps::SemanticPoint>> world;
+    world.reserve(contributions_.size());
+    for (size_t k = 0; k < contributions_.size(); ++k)
+    {
+        world.push_back(toWorld(contributions_[k]));
+        const uint64_t frame = contributions_[k].frameId;
+        for (const auto& p : world.back())
+        {
+            if (!near(p.position))
+                continue;
+            Seen& s = seenBy[key(cell(p.position.x()), cell(p.position.y()), cell(p.position.z()))];
+            if (s.keyframes.size() < needed &&
+                std::find(s.keyframes.begin(), s.keyframes.end(), k) == s.keyframes.end())
+                s.keyframes.push_back(static_cast<uint32_t>(k));
+            s.firstFrame = std::min(s.firstFrame, frame);
+            s.lastFrame = std::max(s.lastFrame, frame);
+        }
+    }
+    // Confirmed: `needed` distinct keyframes within the 27 voxels around the point, spanning
+    // at least confirm_span frames.
+    const auto span = static_cast<uint64_t>(params_.confirm_span);
+    const auto confirmed = [&](const Eigen::Vector3f& p)
+    {
+        std::vector<uint32_t> ks;
+        uint64_t first = UINT64_MAX, last = 0;
+        const int64_t cx = cell(p.x()), cy = cell(p.y()), cz = cell(p.z());
+        for (int64_t dx = -1; dx <= 1; ++dx)
+            for (int64_t dy = -1; dy <= 1; ++dy)
+                for (int64_t dz = -1; dz <= 1; ++dz)
+                {
+                    const auto it = seenBy.find(key(cx + dx, cy + dy, cz + dz));
+                    if (it == seenBy.end())
+                        continue;
+                    for (uint32_t k : it->second.keyframes)
+                        if (ks.size() < needed && std::find(ks.begin(), ks.end(), k) == ks.end())
+                            ks.push_back(k);
+                    first = std::min(first, it->second.firstFrame);
+                    last = std::max(last, it->second.lastFrame);
+                }
+        return ks.size() >= needed && last - first >= span;
+    };
+    const auto keep = [&](const Eigen::Vector3f& p) { return !near(p) || confirmed(p); };
+    size_t dropped = 0;
+    for (const auto& w : world)
+        for (const auto& p : w)
+            dropped += keep(p.position) ? 0 : 1;
+    if (dropped == 0)
+        return 0;
+    pointsMap_.clear();
+    octoMap_.clear();
+    for (const auto& c : contributions_)
+        insert(c, keep);
+    return dropped;
 }
 
 size_t SemanticMapBuilder::contributionBytes() const

@@ -31,6 +31,18 @@ struct MapBuilderParameters : public mrpt::config::CLoadableOptions
     /// what slipped past Algorithm 1 beside a person (a missed arm, the feet) goes once later
     /// keyframes see through it, and static surfaces elsewhere are not thinned. 0 = off.
     double prune_near_movers = 0.3;
+    /// Confirmation near movers: at the end of the run, a keyframe's point within
+    /// prune_near_movers of where movers were enters the maps only when at least this many
+    /// keyframes put a point within about confirm_radius of it. A static surface beside a
+    /// person is seen again from the next keyframes; a part of a walking person that
+    /// segmentation and Algorithm 1 missed is somewhere else at each keyframe. The maps are
+    /// rebuilt from the contributions without the unconfirmed points (only when there are
+    /// some). 0 or 1 = off.
+    int confirm_near_movers = 2;
+    double confirm_radius = 0.05;  ///< m: the voxel of the test, which looks at 27 of them
+    /// Frames the confirming keyframes must span at least (first to last): a person standing
+    /// or walking slowly is at the same place in keyframes made shortly after one another.
+    int confirm_span = 15;
 
     /// [points_map] and [octomap]: the maps' own options (voxel size, resolution, sensor model,
     /// and the depth range / stride of back-projection, which the builder applies too).

@@ -41,6 +41,8 @@ public:
         double maxRotationDeg = 0.0;
         bool rebuilt = false;
         size_t pruned = 0;  ///< points-map points removed by pruneFreePoints() afterwards
+        /// Contribution points left out by dropUnconfirmedNearMovers() afterwards.
+        size_t unconfirmed = 0;
     };
     /// `finalPose` gives each contribution's refined pose (nullopt: keep the insertion pose).
     ReanchorResult reanchor(
@@ -52,6 +54,12 @@ public:
     /// prune_near_movers of where a keyframe's dynamic pixels were. Returns how many went.
     size_t pruneFreePoints();
 
+    /// With confirm_near_movers >= 2 and prune_near_movers > 0: rebuilds both maps from the
+    /// contributions at their current poses without the points near movers that fewer than
+    /// confirm_near_movers keyframes confirm (MapBuilderParameters). Returns how many
+    /// contribution points were left out; the maps stay as they are when none is.
+    size_t dropUnconfirmedNearMovers();
+
     const maps::CSemanticPointsMap& pointsMap() const { return pointsMap_; }
     const maps::CSemanticOctoMap& octoMap() const { return octoMap_; }
     const std::vector<KeyFrameContribution>& contributions() const { return contributions_; }
@@ -60,7 +68,11 @@ public:
     const MapBuilderParameters& parameters() const { return params_; }
 
 private:
-    void insert(const KeyFrameContribution& c);
+    /// Inserts c at its pose; `keep` (when set) picks which of its points, by world position.
+    void insert(const KeyFrameContribution& c,
+                const std::function<bool(const Eigen::Vector3f&)>& keep = nullptr);
+    /// c's points in the world frame, at c's pose.
+    static std::vector<maps::SemanticPoint> toWorld(const KeyFrameContribution& c);
     /// Samples of the dynamic pixels with depth (every 4 px), in the camera frame.
     static std::vector<Eigen::Vector3f> moverSamples(const maps::BackProjector::Images& images,
                                                      const core::PinholeCamera& camera);
