@@ -7,6 +7,8 @@
 #include <unordered_map>
 #include <unordered_set>
 
+#include "KeyFrameVoxels.h"
+
 namespace smap::mapping
 {
 namespace
@@ -132,17 +134,24 @@ SemanticMapBuilder::ReanchorResult SemanticMapBuilder::reanchor(
         if (dt > params_.reanchor_translation || dr > params_.reanchor_rotation_deg)
             r.moved++;
     }
-    if (r.moved == 0)
+    if (r.moved > 0)
+        for (size_t i = 0; i < contributions_.size(); ++i)
+            contributions_[i].T_world_cam = poses[i];
+    // One rebuild for both: the final poses, without the unconfirmed points near movers.
+    const auto keep = unconfirmedFilter(r.unconfirmed);
+    if (r.moved == 0 && !keep)
         return r;
-    pointsMap_.clear();
-    octoMap_.clear();
-    for (size_t i = 0; i < contributions_.size(); ++i)
-    {
-        contributions_[i].T_world_cam = poses[i];
-        insert(contributions_[i]);
-    }
+    rebuild(keep);
     r.rebuilt = true;
     return r;
+}
+
+void SemanticMapBuilder::rebuild(const std::function<bool(const Eigen::Vector3f&)>& keep)
+{
+    pointsMap_.clear();
+    octoMap_.clear();
+    for (const auto& c : contributions_)
+        insert(c, keep);
 }
 
 std::vector<Eigen::Vector3f> SemanticMapBuilder::moverSamples(
@@ -210,78 +219,38 @@ size_t SemanticMapBuilder::pruneFreePoints()
 
 size_t SemanticMapBuilder::dropUnconfirmedNearMovers()
 {
+    size_t dropped = 0;
+    const auto keep = unconfirmedFilter(dropped);
+    if (keep)
+        rebuild(keep);
+    return dropped;
+}
+
+std::function<bool(const Eigen::Vector3f&)> SemanticMapBuilder::unconfirmedFilter(
+    size_t& dropped) const
+{
+    dropped = 0;
     const auto needed = static_cast<size_t>(params_.confirm_near_movers);
     if (needed < 2 || !(params_.prune_near_movers > 0.0) || contributions_.empty())
-        return 0;
+        return nullptr;
     const auto near = nearMovers();
-    const double edge = params_.confirm_radius;
-    const auto key = [edge](int64_t x, int64_t y, int64_t z)
-    {
-        constexpr int64_t kMask = (1 << 21) - 1;
-        return ((x & kMask) << 42) | ((y & kMask) << 21) | (z & kMask);
-    };
-    const auto cell = [edge](float a) { return static_cast<int64_t>(std::floor(a / edge)); };
-    // Per voxel near movers: the distinct keyframes (contribution indices) that put a point in
-    // it, at most `needed`, and the first and last frame among all of them.
-    struct Seen
-    {
-        std::vector<uint32_t> keyframes;
-        uint64_t firstFrame = UINT64_MAX, lastFrame = 0;
-    };
-    std::unordered_map<int64_t, Seen> seenBy;
+    auto voxels = std::make_shared<KeyFrameVoxels>(params_.confirm_radius, needed,
+                                                   static_cast<uint64_t>(params_.confirm_span));
     std::vector<std::vector<maps::SemanticPoint>> world;
     world.reserve(contributions_.size());
     for (size_t k = 0; k < contributions_.size(); ++k)
     {
         world.push_back(toWorld(contributions_[k]));
-        const uint64_t frame = contributions_[k].frameId;
         for (const auto& p : world.back())
-        {
-            if (!near(p.position))
-                continue;
-            Seen& s = seenBy[key(cell(p.position.x()), cell(p.position.y()), cell(p.position.z()))];
-            if (s.keyframes.size() < needed &&
-                std::find(s.keyframes.begin(), s.keyframes.end(), k) == s.keyframes.end())
-                s.keyframes.push_back(static_cast<uint32_t>(k));
-            s.firstFrame = std::min(s.firstFrame, frame);
-            s.lastFrame = std::max(s.lastFrame, frame);
-        }
+            if (near(p.position))
+                voxels->add(p.position, static_cast<uint32_t>(k), contributions_[k].frameId);
     }
-    // Confirmed: `needed` distinct keyframes within the 27 voxels around the point, spanning
-    // at least confirm_span frames.
-    const auto span = static_cast<uint64_t>(params_.confirm_span);
-    const auto confirmed = [&](const Eigen::Vector3f& p)
-    {
-        std::vector<uint32_t> ks;
-        uint64_t first = UINT64_MAX, last = 0;
-        const int64_t cx = cell(p.x()), cy = cell(p.y()), cz = cell(p.z());
-        for (int64_t dx = -1; dx <= 1; ++dx)
-            for (int64_t dy = -1; dy <= 1; ++dy)
-                for (int64_t dz = -1; dz <= 1; ++dz)
-                {
-                    const auto it = seenBy.find(key(cx + dx, cy + dy, cz + dz));
-                    if (it == seenBy.end())
-                        continue;
-                    for (uint32_t k : it->second.keyframes)
-                        if (ks.size() < needed && std::find(ks.begin(), ks.end(), k) == ks.end())
-                            ks.push_back(k);
-                    first = std::min(first, it->second.firstFrame);
-                    last = std::max(last, it->second.lastFrame);
-                }
-        return ks.size() >= needed && last - first >= span;
-    };
-    const auto keep = [&](const Eigen::Vector3f& p) { return !near(p) || confirmed(p); };
-    size_t dropped = 0;
+    std::function<bool(const Eigen::Vector3f&)> keep = [near, voxels](const Eigen::Vector3f& p)
+    { return !near(p) || voxels->confirmed(p); };
     for (const auto& w : world)
         for (const auto& p : w)
             dropped += keep(p.position) ? 0 : 1;
-    if (dropped == 0)
-        return 0;
-    pointsMap_.clear();
-    octoMap_.clear();
-    for (const auto& c : contributions_)
-        insert(c, keep);
-    return dropped;
+    return dropped > 0 ? keep : nullptr;
 }
 
 size_t SemanticMapBuilder::contributionBytes() const

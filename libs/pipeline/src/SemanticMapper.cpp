@@ -260,7 +260,6 @@ mapping::SemanticMapBuilder::ReanchorResult SemanticMapper::finish()
                         return std::nullopt;
                     return it->second;
                 });
-            result.unconfirmed = b.dropUnconfirmedNearMovers();
             result.pruned = b.pruneFreePoints();
         });
     return result;

@@ -41,10 +41,12 @@ public:
         double maxRotationDeg = 0.0;
         bool rebuilt = false;
         size_t pruned = 0;  ///< points-map points removed by pruneFreePoints() afterwards
-        /// Contribution points left out by dropUnconfirmedNearMovers() afterwards.
+        /// Contribution points left out as unconfirmed near movers.
         size_t unconfirmed = 0;
     };
     /// `finalPose` gives each contribution's refined pose (nullopt: keep the insertion pose).
+    /// The maps are rebuilt once when some keyframe moved beyond the tolerance or some point
+    /// near movers is unconfirmed (dropUnconfirmedNearMovers, done here at the final poses).
     ReanchorResult reanchor(
         const std::function<std::optional<mrpt::poses::CPose3D>(const KeyFrameContribution&)>&
             finalPose);
@@ -71,6 +73,11 @@ private:
     /// Inserts c at its pose; `keep` (when set) picks which of its points, by world position.
     void insert(const KeyFrameContribution& c,
                 const std::function<bool(const Eigen::Vector3f&)>& keep = nullptr);
+    /// Clears both maps and inserts every contribution at its pose, filtered by `keep`.
+    void rebuild(const std::function<bool(const Eigen::Vector3f&)>& keep);
+    /// The test of dropUnconfirmedNearMovers at the contributions' poses: null when off or
+    /// when it would drop nothing; `dropped` says how many contribution points it drops.
+    std::function<bool(const Eigen::Vector3f&)> unconfirmedFilter(size_t& dropped) const;
     /// c's points in the world frame, at c's pose.
     static std::vector<maps::SemanticPoint> toWorld(const KeyFrameContribution& c);
     /// Samples of the dynamic pixels with depth (every 4 px), in the camera frame.

@@ -1,0 +1,77 @@
+#include "KeyFrameVoxels.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+namespace smap::mapping
+{
+namespace
+{
+/// The 27 voxel offsets of a point's neighbourhood.
+std::array<std::array<int64_t, 3>, 27> neighbourhood()
+{
+    std::array<std::array<int64_t, 3>, 27> out{};
+    size_t i = 0;
+    for (int64_t dx = -1; dx <= 1; ++dx)
+    {
+        for (int64_t dy = -1; dy <= 1; ++dy)
+        {
+            for (int64_t dz = -1; dz <= 1; ++dz)
+                out[i++] = {dx, dy, dz};
+        }
+    }
+    return out;
+}
+
+void addDistinct(std::vector<uint32_t>& keyframes, uint32_t k, size_t atMost)
+{
+    if (keyframes.size() < atMost &&
+        std::find(keyframes.begin(), keyframes.end(), k) == keyframes.end())
+        keyframes.push_back(k);
+}
+}  // namespace
+
+KeyFrameVoxels::KeyFrameVoxels(double edge, size_t needed, uint64_t span)
+    : edge_(edge), needed_(needed), span_(span)
+{
+}
+
+int64_t KeyFrameVoxels::cell(float a) const
+{
+    return static_cast<int64_t>(std::floor(a / edge_));
+}
+
+int64_t KeyFrameVoxels::key(int64_t x, int64_t y, int64_t z)
+{
+    constexpr int64_t kMask = (1 << 21) - 1;  // 21 bits per axis
+    return ((x & kMask) << 42) | ((y & kMask) << 21) | (z & kMask);
+}
+
+void KeyFrameVoxels::add(const Eigen::Vector3f& p, uint32_t keyframe, uint64_t frame)
+{
+    Seen& s = seen_[key(cell(p.x()), cell(p.y()), cell(p.z()))];
+    addDistinct(s.keyframes, keyframe, needed_);
+    s.firstFrame = std::min(s.firstFrame, frame);
+    s.lastFrame = std::max(s.lastFrame, frame);
+}
+
+bool KeyFrameVoxels::confirmed(const Eigen::Vector3f& p) const
+{
+    static const auto kNeighbourhood = neighbourhood();
+    std::vector<uint32_t> keyframes;
+    uint64_t first = UINT64_MAX, last = 0;
+    const int64_t cx = cell(p.x()), cy = cell(p.y()), cz = cell(p.z());
+    for (const auto& [dx, dy, dz] : kNeighbourhood)
+    {
+        const auto it = seen_.find(key(cx + dx, cy + dy, cz + dz));
+        if (it == seen_.end())
+            continue;
+        for (uint32_t k : it->second.keyframes)
+            addDistinct(keyframes, k, needed_);
+        first = std::min(first, it->second.firstFrame);
+        last = std::max(last, it->second.lastFrame);
+    }
+    return keyframes.size() >= needed_ && last >= first && last - first >= span_;
+}
+}  // namespace smap::mapping

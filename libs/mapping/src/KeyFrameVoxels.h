@@ -1,0 +1,38 @@
+// Which keyframes put a point in each voxel, and over which frames: the confirmation test of
+// points near movers (SemanticMapBuilder, [map] confirm_near_movers). Private to libs/mapping.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+namespace smap::mapping
+{
+class KeyFrameVoxels
+{
+public:
+    /// `edge`: the voxel size (m); `needed`: keyframes that confirm; `span`: frames they must
+    /// span at least (first to last).
+    KeyFrameVoxels(double edge, size_t needed, uint64_t span);
+
+    /// Keyframe number `keyframe`, made from frame `frame`, put a point at p.
+    void add(const Eigen::Vector3f& p, uint32_t keyframe, uint64_t frame);
+    /// At least `needed` distinct keyframes in the 27 voxels around p, spanning `span` frames.
+    bool confirmed(const Eigen::Vector3f& p) const;
+
+private:
+    struct Seen
+    {
+        std::vector<uint32_t> keyframes;  ///< distinct, at most `needed_`
+        uint64_t firstFrame = UINT64_MAX, lastFrame = 0;
+    };
+    int64_t cell(float a) const;
+    static int64_t key(int64_t x, int64_t y, int64_t z);
+
+    double edge_;
+    size_t needed_;
+    uint64_t span_;
+    std::unordered_map<int64_t, Seen> seen_;
+};
+}  // namespace smap::mapping
