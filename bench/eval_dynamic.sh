@@ -20,15 +20,7 @@ shared="$root/../shared"
 mkdir -p "$cache"
 
 # twin of a preset: the same camera motion without people
-twin() {
-    case "$1" in
-        walking_xyz | sitting_xyz) echo static_xyz ;;
-        walking_halfsphere | sitting_halfsphere) echo static_halfsphere ;;
-        walking_rpy) echo static_rpy ;;
-        walking_static) echo static_static ;;
-        7scenes-people) echo 7scenes ;;
-    esac
-}
+. "$root/bench/twins.sh"
 
 # run NAME INPUT GT MODE CONFIG [args] -> prints "rmse mean median std with_pose frames" of
 # the run with the median RMSE among $SMAP_EVAL_RUNS runs (default 1: runs are deterministic

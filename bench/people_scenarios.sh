@@ -56,15 +56,7 @@ ghosts() {  # free run, run, map file [composite] -> "x.xx %" [" (y.yy % where a
              if (near != "") printf " (%s %% where a person was)", near
              exit}'
 }
-twin() {
-    case "$1" in
-        walking_xyz | sitting_xyz) echo static_xyz ;;
-        walking_halfsphere | sitting_halfsphere) echo static_halfsphere ;;
-        walking_rpy) echo static_rpy ;;
-        walking_static) echo static_static ;;
-        *) echo "people_scenarios.sh: no static twin for preset $1" >&2; exit 2 ;;
-    esac
-}
+. "$root/bench/twins.sh"
 render() {  # preset -> its folder (300 frames, cached)
     local dir="$cache/$1-300"
     [ -f "$dir/groundtruth.txt" ] ||
@@ -116,8 +108,9 @@ for s in $scenarios; do
 done
 synthetic="$root/config/synthetic.ini"
 for p in $presets; do
-    dir="$(render "$p")"
     t="$(twin "$p")"
+    [ -n "$t" ] || { echo "people_scenarios.sh: no static twin for preset $p" >&2; exit 2; }
+    dir="$(render "$p")"
     tdir="$(render "$t")"
     free="$out/$p-free"
     track "$tdir" "$synthetic" "$free" "$@"

@@ -52,6 +52,15 @@ std::string smallCameraIni()
     return "[camera]\nwidth = 64\nheight = 48\nfx = 60\nfy = 60\ncx = 31.5\ncy = 23.5\n";
 }
 
+/// Runs semantic-mapper with `args`, logging warnings only; its exit code.
+int runQuietly(const std::vector<std::string>& args)
+{
+    std::ostringstream out;
+    apps::SemanticMapperApp app;
+    app.setMinLoggingLevel(mrpt::system::LVL_WARN);
+    return app.run(args, out);
+}
+
 // Fast settings for tests that check the wiring rather than segmentation quality.
 std::vector<std::string> fast(std::vector<std::string> args)
 {
@@ -147,10 +156,7 @@ TEST(SemanticMapperApp, SceneFileLoadsInMrptWithTheMapAndTheTrajectory)
 {
     SMAP_REQUIRE_DATA(apps::SemanticMapperApp::defaultInput());
     test::TempDir dir;
-    std::ostringstream out;
-    apps::SemanticMapperApp app;
-    app.setMinLoggingLevel(mrpt::system::LVL_WARN);
-    ASSERT_EQ(app.run(fast({"--out", dir / "o", "--set", "input.max_frames=40"}), out), 0);
+    ASSERT_EQ(runQuietly(fast({"--out", dir / "o", "--set", "input.max_frames=40"})), 0);
     mrpt::opengl::COpenGLScene scene;
     ASSERT_TRUE(scene.loadFromFile(dir / "o/semantic_map.3Dscene"));
     auto world = scene.getByClass<mrpt::opengl::CSetOfObjects>();
@@ -195,12 +201,7 @@ TEST(SemanticMapperApp, SameInputAndConfigurationGiveIdenticalFiles)
     SMAP_REQUIRE_DATA(apps::SemanticMapperApp::defaultInput());
     test::TempDir dir;
     for (const std::string run : {"a", "b"})
-    {
-        std::ostringstream out;
-        apps::SemanticMapperApp app;
-        app.setMinLoggingLevel(mrpt::system::LVL_WARN);
-        ASSERT_EQ(app.run(fast({"--out", dir / run, "--set", "input.max_frames=80"}), out), 0);
-    }
+        ASSERT_EQ(runQuietly(fast({"--out", dir / run, "--set", "input.max_frames=80"})), 0);
     for (const char* f :
          {"trajectory.txt", "keyframes.txt", "semantic_points.ply", "semantic_octomap.ot",
           "semantic_octomap.bt", "semantic_map.bin", "annotated.rawlog"})
