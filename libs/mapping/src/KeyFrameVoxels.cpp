@@ -42,15 +42,9 @@ int64_t KeyFrameVoxels::cell(float a) const
     return static_cast<int64_t>(std::floor(a / edge_));
 }
 
-int64_t KeyFrameVoxels::key(int64_t x, int64_t y, int64_t z)
-{
-    constexpr int64_t kMask = (1 << 21) - 1;  // 21 bits per axis
-    return ((x & kMask) << 42) | ((y & kMask) << 21) | (z & kMask);
-}
-
 void KeyFrameVoxels::add(const Eigen::Vector3f& p, uint32_t keyframe, uint64_t frame)
 {
-    Seen& s = seen_[key(cell(p.x()), cell(p.y()), cell(p.z()))];
+    Seen& s = seen_[voxelKey(cell(p.x()), cell(p.y()), cell(p.z()))];
     addDistinct(s.keyframes, keyframe, needed_);
     s.firstFrame = std::min(s.firstFrame, frame);
     s.lastFrame = std::max(s.lastFrame, frame);
@@ -64,7 +58,7 @@ bool KeyFrameVoxels::confirmed(const Eigen::Vector3f& p) const
     const int64_t cx = cell(p.x()), cy = cell(p.y()), cz = cell(p.z());
     for (const auto& [dx, dy, dz] : kNeighbourhood)
     {
-        const auto it = seen_.find(key(cx + dx, cy + dy, cz + dz));
+        const auto it = seen_.find(voxelKey(cx + dx, cy + dy, cz + dz));
         if (it == seen_.end())
             continue;
         for (uint32_t k : it->second.keyframes)

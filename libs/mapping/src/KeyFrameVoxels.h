@@ -9,6 +9,13 @@
 
 namespace smap::mapping
 {
+/// One hash key for voxel indices (x, y, z): 21 bits each, +-1 million voxels per axis.
+inline int64_t voxelKey(int64_t x, int64_t y, int64_t z)
+{
+    constexpr int64_t kMask = (1 << 21) - 1;
+    return ((x & kMask) << 42) | ((y & kMask) << 21) | (z & kMask);
+}
+
 class KeyFrameVoxels
 {
 public:
@@ -28,7 +35,6 @@ private:
         uint64_t firstFrame = UINT64_MAX, lastFrame = 0;
     };
     int64_t cell(float a) const;
-    static int64_t key(int64_t x, int64_t y, int64_t z);
 
     double edge_;
     size_t needed_;

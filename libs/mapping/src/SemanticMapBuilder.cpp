@@ -180,9 +180,7 @@ std::function<bool(const Eigen::Vector3f&)> SemanticMapBuilder::nearMovers() con
     const auto key = [edge](double x, double y, double z)
     {
         const auto q = [edge](double a) { return static_cast<int64_t>(std::floor(a / edge)); };
-        // 21 bits per axis: +-1 million voxels.
-        constexpr int64_t kMask = (1 << 21) - 1;
-        return ((q(x) & kMask) << 42) | ((q(y) & kMask) << 21) | (q(z) & kMask);
+        return voxelKey(q(x), q(y), q(z));
     };
     auto voxels = std::make_shared<std::unordered_set<int64_t>>();
     for (const auto& c : contributions_)
