@@ -114,6 +114,44 @@ TEST(RgbdSlam, DeterministicModeGivesIdenticalTrajectories)
         EXPECT_EQ(runs[0][i].T_world_cam.asString(), runs[1][i].T_world_cam.asString()) << i;
 }
 
+// The xyz motion comes back to where it was: with loops looked for 40 frames back, loop closing
+// verifies revisits; each agrees with the ground truth's relative pose, the trajectory stays as
+// accurate, and with both threads off two runs are identical.
+TEST(LoopClosing, RevisitsAreVerifiedTrueAndDeterministic)
+{
+    const auto& seq = staticXyz();
+    slam::LoopClosingParameters loop;
+    loop.threaded = false;
+    loop.min_frame_gap = 40;
+    loop.min_keyframes = 3;
+    std::vector<core::Trajectory> runs;
+    for (int r = 0; r < 2; ++r)
+    {
+        slam::RgbdSlam slam(features::OrbParameters{}, slam::TrackerParameters{}, deterministic(),
+                            loop);
+        runs.push_back(trackAll(slam, seq));
+        const auto st = slam.loopClosingStats();
+        EXPECT_GT(st.keyframesChecked, 5U);
+        ASSERT_FALSE(st.closures.empty()) << "no revisit verified";
+        for (const auto& c : st.closures)
+        {
+            EXPECT_GE(c.frameId, c.loopFrameId + 40);
+            EXPECT_GE(c.projectedMatches, loop.min_projected_matches);
+            const auto& gtLoop = seq.groundTruth[c.loopFrameId].T_world_cam;
+            const auto& gtKf = seq.groundTruth[c.frameId].T_world_cam;
+            // T_loop_keyframe = T_cam_loop * T_cam_kf^-1 = T_world_loop^-1 * T_world_kf.
+            const mrpt::poses::CPose3D truth = gtKf - gtLoop;
+            const mrpt::poses::CPose3D est = slam::toCPose3D(c.T_loop_keyframe);
+            const mrpt::poses::CPose3D err = est - truth;
+            EXPECT_LT(err.norm(), 0.03) << "loop " << c.frameId << " -> " << c.loopFrameId;
+        }
+        EXPECT_LT(ateRmse(seq.groundTruth, runs.back()), 0.01);
+    }
+    ASSERT_EQ(runs[0].size(), runs[1].size());
+    for (size_t i = 0; i < runs[0].size(); ++i)
+        EXPECT_EQ(runs[0][i].T_world_cam.asString(), runs[1][i].T_world_cam.asString()) << i;
+}
+
 TEST(RgbdSlam, ThreadedLocalMappingTracksAsWell)
 {
     const auto& seq = staticXyz();

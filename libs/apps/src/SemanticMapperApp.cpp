@@ -319,6 +319,62 @@ core::JsonValue trackingSummary(const RunLog& log, const pipeline::SemanticMappe
     return tracking;
 }
 
+core::JsonValue loopClosureJson(const slam::LoopClosure& c)
+{
+    const Eigen::Quaterniond q(c.T_loop_keyframe.rotation());
+    const Eigen::Vector3d t = c.T_loop_keyframe.translation();
+    auto pose = core::JsonValue::array();
+    for (double v : {t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w()})
+        pose.push(core::JsonValue::number(v));
+    auto j = core::JsonValue::object();
+    j.set("frame", c.frameId)
+        .set("loop_frame", c.loopFrameId)
+        .set("timestamp", c.timestamp)
+        .set("loop_timestamp", c.loopTimestamp)
+        .set("inliers", c.inliers)
+        .set("projected_matches", c.projectedMatches)
+        .set("T_loop_keyframe", std::move(pose))
+        .set("corrected", c.corrected)
+        .set("correction_m", c.correction_m)
+        .set("correction_deg", c.correction_deg)
+        .set("keyframes", c.keyframesCorrected)
+        .set("points_fused", c.pointsFused)
+        .set("correction_ms", 1e3 * c.correctionSeconds)
+        .set("global_ba_ms", 1e3 * c.globalBaSeconds);
+    return j;
+}
+
+/// Loop closing: keyframes checked, candidates, and every verified loop, corrected or a
+/// consistent revisit (frames, the measured relative pose as tx ty tz qx qy qz qw, how far it
+/// was from the keyframe's pose, its cost).
+core::JsonValue loopSummary(const pipeline::SemanticMapper& mapper)
+{
+    const auto st = mapper.slam().loopClosingStats();
+    std::vector<double> ms;
+    auto list = core::JsonValue::array();
+    uint64_t corrected = 0;
+    for (const auto& c : st.closures)
+    {
+        if (c.corrected)
+        {
+            ms.push_back(1e3 * c.correctionSeconds);
+            corrected++;
+        }
+        list.push(loopClosureJson(c));
+    }
+    std::sort(ms.begin(), ms.end());
+    auto j = core::JsonValue::object();
+    j.set("keyframes_checked", static_cast<uint64_t>(st.keyframesChecked))
+        .set("candidates_verified", static_cast<uint64_t>(st.candidatesVerified))
+        .set("candidates_rejected", static_cast<uint64_t>(st.candidatesRejected))
+        .set("closures", corrected)
+        .set("consistent_revisits", static_cast<uint64_t>(st.closures.size()) - corrected)
+        .set("correction_median_ms", ms.empty() ? 0.0 : ms[ms.size() / 2])
+        .set("correction_max_ms", ms.empty() ? 0.0 : ms.back())
+        .set("list", std::move(list));
+    return j;
+}
+
 core::JsonValue keyFrameSummary(pipeline::SemanticMapper& mapper,
                                 const pipeline::PipelineParameters& params)
 {
@@ -590,6 +646,7 @@ void SemanticMapperApp::writeMetrics(detail::MapperRun& s)
     metrics.set("input_ended_early", s.source->endedEarly());
     metrics.set("tracking", trackingSummary(s.log, *s.mapper));
     metrics.set("keyframes", keyFrameSummary(*s.mapper, parameters.pipeline));
+    metrics.set("loop", loopSummary(*s.mapper));
     metrics.set("map", mapSummary(s));
     metrics.set("timings", timingSummary(s));
     metrics.set(

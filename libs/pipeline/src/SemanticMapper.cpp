@@ -9,7 +9,8 @@ namespace smap::pipeline
 SemanticMapper::SemanticMapper(const SemanticMapperParameters& params)
     : COutputLogger("semantic-mapper"),
       params_(params),
-      slam_(std::make_unique<slam::RgbdSlam>(params.orb, params.tracking, params.localMapping)),
+      slam_(std::make_unique<slam::RgbdSlam>(params.orb, params.tracking, params.localMapping,
+                                             params.loopClosing)),
       dynamicFilter_(params.dynamic),
       labelTracker_(
           static_cast<size_t>(params.semanticEvidence.max_mask_age + params.dynamic.frame_gap + 4),

@@ -23,8 +23,11 @@ CameraMotionKind parseCameraMotion(const std::string& name)
         return CameraMotionKind::Halfsphere;
     if (name == "handheld")
         return CameraMotionKind::Handheld;
+    if (name == "loop")
+        return CameraMotionKind::Loop;
     throw core::InputError(mrpt::format(
-        "camera motion '%s' is not one of static, xyz, rpy, halfsphere, handheld", name.c_str()));
+        "camera motion '%s' is not one of static, xyz, rpy, halfsphere, handheld, loop",
+        name.c_str()));
 }
 
 std::string toString(CameraMotionKind k)
@@ -41,6 +44,8 @@ std::string toString(CameraMotionKind k)
             return "halfsphere";
         case CameraMotionKind::Handheld:
             return "handheld";
+        case CameraMotionKind::Loop:
+            return "loop";
     }
     return "?";
 }
@@ -65,6 +70,76 @@ mrpt::poses::CPose3D lookAt(const Eigen::Vector3d& position, const Eigen::Vector
     t[1] = position.y();
     t[2] = position.z();
     return mrpt::poses::CPose3D(R, t);
+}
+
+double LoopPath::length() const
+{
+    const Eigen::Vector2d e = max - min;
+    return 2.0 * (e.x() + e.y()) - 8.0 * cornerRadius + 2.0 * M_PI * cornerRadius;
+}
+
+void LoopPath::at(double s, Eigen::Vector2d& point, Eigen::Vector2d& heading) const
+{
+    const double r = cornerRadius;
+    const Eigen::Vector2d e = max - min;
+    // Straight edges (counter-clockwise: bottom, right, top, left) and quarter arcs between.
+    const double straight[4] = {e.x() - 2 * r, e.y() - 2 * r, e.x() - 2 * r, e.y() - 2 * r};
+    const Eigen::Vector2d starts[4] = {{min.x() + r, min.y()},
+                                       {max.x(), min.y() + r},
+                                       {max.x() - r, max.y()},
+                                       {min.x(), max.y() - r}};
+    const Eigen::Vector2d dirs[4] = {{1, 0}, {0, 1}, {-1, 0}, {0, -1}};
+    const double arc = 0.5 * M_PI * r;
+    double u = std::fmod(s + 0.5 * straight[0], length());
+    if (u < 0)
+        u += length();
+    for (int k = 0; k < 4; ++k)
+    {
+        if (u <= straight[k])
+        {
+            point = starts[k] + u * dirs[k];
+            heading = dirs[k];
+            return;
+        }
+        u -= straight[k];
+        if (u <= arc || k == 3)
+        {
+            const double a = std::min(u, arc) / r;                // turned so far, radians
+            const Eigen::Vector2d d = dirs[k], n(-d.y(), d.x());  // n: towards the centre
+            const Eigen::Vector2d centre = starts[k] + straight[k] * d + r * n;
+            point = centre - r * (std::cos(a) * n) + r * std::sin(a) * d;
+            heading = std::cos(a) * d + std::sin(a) * n;
+            return;
+        }
+        u -= arc;
+    }
+}
+
+CameraMotion::CameraMotion(const LoopPath& path, uint32_t seed)
+    : CameraMotion(CameraMotionKind::Loop, Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitX(), seed)
+{
+    loop_ = path;
+}
+
+double CameraMotion::wave(int i, double amp, double t, double rate) const
+{
+    return amp * std::sin(2.0 * M_PI * rate * freqs_[i] * t + phases_[i]);
+}
+
+mrpt::poses::CPose3D CameraMotion::alongLoop(double t) const
+{
+    Eigen::Vector2d p, h;
+    loop_.at(loop_.speed * t, p, h);
+    // Hand-held: the camera sways sideways and up and down, and looks about the way ahead.
+    const Eigen::Vector2d side(-h.y(), h.x());
+    const Eigen::Vector3d position(p.x() + wave(0, 0.08, t, 0.3) * side.x(),
+                                   p.y() + wave(0, 0.08, t, 0.3) * side.y(),
+                                   loop_.height + wave(1, 0.05, t, 0.4));
+    const double yaw = wave(2, 0.25, t, 0.2), pitch = -0.12 + wave(3, 0.08, t, 0.25);
+    const Eigen::Vector2d look2 = std::cos(yaw) * h + std::sin(yaw) * side;
+    const Eigen::Vector3d look(look2.x(), look2.y(), std::tan(pitch));
+    return lookAt(position, position + look) +
+           mrpt::poses::CPose3D(0, 0, 0, wave(4, 0.05, t, 0.3), 0, 0);
 }
 
 CameraMotion::CameraMotion(CameraMotionKind kind, const Eigen::Vector3d& basePosition,
@@ -118,14 +193,17 @@ mrpt::poses::CPose3D CameraMotion::T_world_cam(double t) const
         }
         case CameraMotionKind::Handheld:
         {
-            auto wave = [&](int i, double amp)
-            { return amp * std::sin(2.0 * M_PI * 0.15 * freqs_[i] * t + phases_[i]); };
+            const double rate = 0.15;
             const Eigen::Vector3d p =
-                base_ + Eigen::Vector3d(wave(0, 0.4), wave(1, 0.3), wave(2, 0.15));
+                base_ + Eigen::Vector3d(wave(0, 0.4, t, rate), wave(1, 0.3, t, rate),
+                                        wave(2, 0.15, t, rate));
             const Eigen::Vector3d look =
-                target_ + Eigen::Vector3d(wave(3, 0.6), wave(4, 0.4), wave(5, 0.3));
-            return lookAt(p, look) + mrpt::poses::CPose3D(0, 0, 0, wave(6, 0.08), 0, 0);
+                target_ + Eigen::Vector3d(wave(3, 0.6, t, rate), wave(4, 0.4, t, rate),
+                                          wave(5, 0.3, t, rate));
+            return lookAt(p, look) + mrpt::poses::CPose3D(0, 0, 0, wave(6, 0.08, t, rate), 0, 0);
         }
+        case CameraMotionKind::Loop:
+            return alongLoop(t);
     }
     return base;
 }

@@ -74,6 +74,17 @@ cv::Mat noiseTexture(int size, Rng& rng)
     return img;
 }
 
+cv::Mat paintTexture(int size, Rng& rng)
+{
+    const cv::Vec3b base = randomColour(rng, 150, 225);
+    cv::Vec3b darker;
+    for (int c = 0; c < 3; c++)
+        darker[c] = static_cast<uchar>(base[c] * 0.86);
+    cv::Mat img = tint(valueNoise(size, rng, 4, 3), darker, base);
+    addStrokes(img, rng, size / 96, size / 10);
+    return img;
+}
+
 cv::Mat tilesTexture(int size, Rng& rng)
 {
     std::uniform_int_distribution<int> small(0, 1000);
@@ -193,6 +204,8 @@ cv::Mat makeTexture(TextureKind kind, int size, uint32_t seed)
             return fabricTexture(size, rng);
         case TextureKind::Carpet:
             return carpetTexture(size, rng);
+        case TextureKind::Paint:
+            return paintTexture(size, rng);
     }
     return {};
 }

@@ -12,18 +12,20 @@ std::vector<SequencePreset> sequencePresets()
 {
     using K = CameraMotionKind;
     return {
-        {"walking_xyz", K::Xyz, 2, 0},
-        {"walking_halfsphere", K::Halfsphere, 2, 0},
-        {"walking_rpy", K::Rpy, 2, 0},
-        {"walking_static", K::Static, 2, 0},
-        {"sitting_xyz", K::Xyz, 0, 2},
-        {"sitting_halfsphere", K::Halfsphere, 0, 2},
-        {"desk_with_person", K::Handheld, 0, 1},
-        {"static_xyz", K::Xyz, 0, 0},
-        {"static_halfsphere", K::Halfsphere, 0, 0},
-        {"static_rpy", K::Rpy, 0, 0},
-        {"static_static", K::Static, 0, 0},
-        {"static_handheld", K::Handheld, 0, 0},
+        {"walking_xyz", SceneKind::Office, K::Xyz, 2, 0},
+        {"walking_halfsphere", SceneKind::Office, K::Halfsphere, 2, 0},
+        {"walking_rpy", SceneKind::Office, K::Rpy, 2, 0},
+        {"walking_static", SceneKind::Office, K::Static, 2, 0},
+        {"sitting_xyz", SceneKind::Office, K::Xyz, 0, 2},
+        {"sitting_halfsphere", SceneKind::Office, K::Halfsphere, 0, 2},
+        {"desk_with_person", SceneKind::Office, K::Handheld, 0, 1},
+        {"static_xyz", SceneKind::Office, K::Xyz, 0, 0},
+        {"static_halfsphere", SceneKind::Office, K::Halfsphere, 0, 0},
+        {"static_rpy", SceneKind::Office, K::Rpy, 0, 0},
+        {"static_static", SceneKind::Office, K::Static, 0, 0},
+        {"static_handheld", SceneKind::Office, K::Handheld, 0, 0},
+        {"corridor_loop", SceneKind::CorridorLoop, K::Loop, 2, 0},
+        {"static_corridor_loop", SceneKind::CorridorLoop, K::Loop, 0, 0},
     };
 }
 
@@ -64,10 +66,19 @@ SequenceGenerator::SequenceGenerator(const GeneratorOptions& options)
                 preset_.name.c_str()));
         sprites = loadPersonSprites(options.peopleDirectory);
     }
-    scene_ = std::make_unique<SyntheticScene>(
-        SyntheticScene::makeOffice(options.seed, preset_.walking, preset_.sitting, sprites));
-    motion_ = std::make_unique<CameraMotion>(preset_.motion, scene_->cameraBase(),
-                                             scene_->cameraTarget(), options.seed);
+    if (preset_.scene == SceneKind::CorridorLoop)
+    {
+        scene_ = std::make_unique<SyntheticScene>(
+            SyntheticScene::makeCorridorLoop(options.seed, preset_.walking, sprites));
+        motion_ = std::make_unique<CameraMotion>(SyntheticScene::loopPath(), options.seed);
+    }
+    else
+    {
+        scene_ = std::make_unique<SyntheticScene>(
+            SyntheticScene::makeOffice(options.seed, preset_.walking, preset_.sitting, sprites));
+        motion_ = std::make_unique<CameraMotion>(preset_.motion, scene_->cameraBase(),
+                                                 scene_->cameraTarget(), options.seed);
+    }
     renderer_ = std::make_unique<SyntheticRenderer>(*scene_, options.camera);
 }
 

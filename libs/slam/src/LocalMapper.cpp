@@ -99,6 +99,18 @@ void LocalMapper::run()
 
 void LocalMapper::process(const std::shared_ptr<KeyFrame>& kf)
 {
+    {
+        waiting_ = true;
+        std::lock_guard<std::mutex> still(processing_);
+        waiting_ = false;
+        processHeld(kf);
+    }
+    if (sink_)
+        sink_(kf);
+}
+
+void LocalMapper::processHeld(const std::shared_ptr<KeyFrame>& kf)
+{
     const auto t0 = std::chrono::steady_clock::now();
     {
         std::lock_guard<std::mutex> lock(map_.mutex());

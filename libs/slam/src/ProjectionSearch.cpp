@@ -243,58 +243,63 @@ int searchKeyFramePoints(Frame& frame, const KeyFrame& kf, double radius, int ma
     return n;
 }
 
+int matchProjectedPoint(const KeyFrame& kf, const Eigen::Isometry3d& T_cam_world,
+                        const MapPoint& mp, double radius)
+{
+    Eigen::Vector3d pc;
+    Eigen::Vector2d uv;
+    if (!projectIntoImage(T_cam_world, kf.camera, mp.position_world, pc, uv))
+        return -1;
+    const Eigen::Vector3d ray = mp.position_world - T_cam_world.inverse().translation();
+    const double dist = ray.norm();
+    if (dist < mp.minDistance() || dist > mp.maxDistance() || ray.dot(mp.normal()) < 0.5 * dist)
+        return -1;
+    const auto& pyr = kf.features.pyramid;
+    const int level = mp.predictLevel(dist, pyr);
+    const double r = radius * pyr.scale[static_cast<size_t>(level)];
+    const double uR = uv.x() - kf.bf / pc.z();
+    int best = std::numeric_limits<int>::max();
+    int bestIdx = -1;
+    for (size_t j : kf.grid.query(static_cast<float>(uv.x()), static_cast<float>(uv.y()),
+                                  static_cast<float>(r), level - 1, level))
+    {
+        if (kf.weights[j] <= 0.0F)
+            continue;
+        const double ex = uv.x() - kf.features.undistorted[j].x;
+        const double ey = uv.y() - kf.features.undistorted[j].y;
+        const double info = pyr.invSigma2[static_cast<size_t>(kf.features.keypoints[j].octave)];
+        double e2 = ex * ex + ey * ey;
+        double chi2 = kChi2Mono;
+        if (kf.features.hasDepth(j))
+        {
+            const double er = uR - kf.features.rightU[j];
+            e2 += er * er;
+            chi2 = kChi2Stereo;
+        }
+        if (e2 * info > chi2)
+            continue;
+        const int d = features::descriptorDistance(mp.descriptor.data(), kf.features.descriptor(j));
+        if (d < best)
+        {
+            best = d;
+            bestIdx = static_cast<int>(j);
+        }
+    }
+    return best <= kDescriptorLow ? bestIdx : -1;
+}
+
 int fuse(KeyFrame& kf, const std::vector<std::shared_ptr<MapPoint>>& points, double radius)
 {
     const Eigen::Isometry3d T = kf.T_cam_world();
-    const Eigen::Vector3d centre = kf.centre_world();
-    const auto& pyr = kf.features.pyramid;
     int n = 0;
     for (const auto& mp : points)
     {
         if (!mp || mp->isBad() || mp->isObservedBy(&kf))
             continue;
-        Eigen::Vector3d pc;
-        Eigen::Vector2d uv;
-        if (!projectIntoImage(T, kf.camera, mp->position_world, pc, uv))
+        const int found = matchProjectedPoint(kf, T, *mp, radius);
+        if (found < 0)
             continue;
-        const Eigen::Vector3d ray = mp->position_world - centre;
-        const double dist = ray.norm();
-        if (dist < mp->minDistance() || dist > mp->maxDistance() ||
-            ray.dot(mp->normal()) < 0.5 * dist)
-            continue;
-        const int level = mp->predictLevel(dist, pyr);
-        const double r = radius * pyr.scale[static_cast<size_t>(level)];
-        const double uR = uv.x() - kf.bf / pc.z();
-        int best = std::numeric_limits<int>::max();
-        size_t bestIdx = 0;
-        for (size_t j : kf.grid.query(static_cast<float>(uv.x()), static_cast<float>(uv.y()),
-                                      static_cast<float>(r), level - 1, level))
-        {
-            if (kf.weights[j] <= 0.0F)
-                continue;
-            const double ex = uv.x() - kf.features.undistorted[j].x;
-            const double ey = uv.y() - kf.features.undistorted[j].y;
-            const double info = pyr.invSigma2[static_cast<size_t>(kf.features.keypoints[j].octave)];
-            double e2 = ex * ex + ey * ey;
-            double chi2 = kChi2Mono;
-            if (kf.features.hasDepth(j))
-            {
-                const double er = uR - kf.features.rightU[j];
-                e2 += er * er;
-                chi2 = kChi2Stereo;
-            }
-            if (e2 * info > chi2)
-                continue;
-            const int d =
-                features::descriptorDistance(mp->descriptor.data(), kf.features.descriptor(j));
-            if (d < best)
-            {
-                best = d;
-                bestIdx = j;
-            }
-        }
-        if (best > kDescriptorLow)
-            continue;
+        const auto bestIdx = static_cast<size_t>(found);
         const std::shared_ptr<MapPoint> existing = kf.points[bestIdx];
         if (existing && !existing->isBad())
         {

@@ -10,7 +10,7 @@
 namespace smap::slam
 {
 RgbdSlam::RgbdSlam(const features::OrbParameters& orb, const TrackerParameters& tracking,
-                   const LocalMappingParameters& mapping)
+                   const LocalMappingParameters& mapping, const LoopClosingParameters& loop)
     : COutputLogger("slam"),
       orbParams_(orb),
       trackingParams_(tracking),
@@ -18,15 +18,22 @@ RgbdSlam::RgbdSlam(const features::OrbParameters& orb, const TrackerParameters& 
       extractor_(std::make_unique<features::OrbExtractor>(orb)),
       map_(std::make_unique<Map>()),
       mapper_(std::make_unique<LocalMapper>(*map_, mapping)),
+      loopCloser_(
+          std::make_unique<LoopCloser>(*map_, *mapper_, loop, mapping.covisibility_min_weight)),
       tracker_(std::make_unique<Tracker>(*map_, *mapper_, tracking))
 {
+    mapper_->setProcessedSink([this](const std::shared_ptr<KeyFrame>& kf)
+                              { loopCloser_->insertKeyFrame(kf); });
 }
 
 RgbdSlam::~RgbdSlam()
 {
-    // The mapper's thread goes first: it references the map.
+    // The threads go first: they reference the map. Loop closing stops taking keyframes
+    // before the mapper that hands them over goes, and goes last itself.
     tracker_.reset();
+    loopCloser_->stop();
     mapper_.reset();
+    loopCloser_.reset();
 }
 
 Frame RgbdSlam::prepare(const core::RgbdFrame& rgbd, const cv::Mat& fill_last) const
@@ -77,11 +84,13 @@ void RgbdSlam::setLoggingLevel(mrpt::system::VerbosityLevel level)
     setMinLoggingLevel(level);
     tracker_->setMinLoggingLevel(level);
     mapper_->setMinLoggingLevel(level);
+    loopCloser_->setMinLoggingLevel(level);
 }
 
 void RgbdSlam::finish()
 {
     mapper_->waitUntilIdle();
+    loopCloser_->waitUntilIdle();
     if (finished_ || mappingParams_.global_ba_iterations <= 0)
         return;
     finished_ = true;

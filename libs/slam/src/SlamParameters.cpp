@@ -131,4 +131,58 @@ void LocalMappingParameters::saveToConfigFile(mrpt::config::CConfigFileBase& cfg
     // Saving only reads the fields the list points at.
     const_cast<LocalMappingParameters*>(this)->fields(section).save(cfg);
 }
+
+core::OptionFields LoopClosingParameters::fields(const std::string& section)
+{
+    core::OptionFields f(section, "loop_closing");
+    f.add("enabled", enabled)
+        .add("threaded", threaded)
+        .add("min_keyframes", min_keyframes)
+        .add("min_frame_gap", min_frame_gap)
+        .add("min_matches", min_matches)
+        .add("neighbour_score_ratio", neighbour_score_ratio)
+        .add("max_candidates", max_candidates)
+        .add("min_inliers", min_inliers)
+        .add("inlier_distance", inlier_distance)
+        .add("min_projected_matches", min_projected_matches)
+        .add("min_correction_m", min_correction_m)
+        .add("min_correction_deg", min_correction_deg)
+        .add("pose_graph_iterations", pose_graph_iterations)
+        .add("global_ba_iterations", global_ba_iterations);
+    return f;
+}
+
+void LoopClosingParameters::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
+                                               const std::string& section)
+{
+    const char* s = "loop_closing";
+    fields(section).load(cfg);
+    requirePositive(min_keyframes, s, "min_keyframes");
+    requirePositive(min_matches, s, "min_matches");
+    requirePositive(max_candidates, s, "max_candidates");
+    requirePositive(inlier_distance, s, "inlier_distance");
+    requirePositive(pose_graph_iterations, s, "pose_graph_iterations");
+    if (min_inliers < 3)
+        throw core::InputError(
+            mrpt::format("[loop_closing] min_inliers = %d must be >= 3", min_inliers));
+    if (!(neighbour_score_ratio >= 0.0 && neighbour_score_ratio <= 1.0))
+        throw core::InputError(mrpt::format(
+            "[loop_closing] neighbour_score_ratio = %g must be in [0, 1]", neighbour_score_ratio));
+    if (min_correction_m < 0.0 || min_correction_deg < 0.0)
+        throw core::InputError(mrpt::format(
+            "[loop_closing] min_correction_m = %g and min_correction_deg = %g must be >= 0",
+            min_correction_m, min_correction_deg));
+    if (min_frame_gap < 0 || min_projected_matches < 0 || global_ba_iterations < 0)
+        throw core::InputError(
+            mrpt::format("[loop_closing] min_frame_gap = %d, min_projected_matches = %d and "
+                         "global_ba_iterations = %d must be >= 0",
+                         min_frame_gap, min_projected_matches, global_ba_iterations));
+}
+
+void LoopClosingParameters::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
+                                             const std::string& section) const
+{
+    // Saving only reads the fields the list points at.
+    const_cast<LoopClosingParameters*>(this)->fields(section).save(cfg);
+}
 }  // namespace smap::slam

@@ -67,9 +67,12 @@ TrackingResult Tracker::track(Frame frame)
     std::shared_ptr<KeyFrame> newKf;
     {
         std::lock_guard<std::mutex> lock(map_.mutex());
+        followLoopCorrection();
         newKf = state_ == TrackerState::NotInitialised ? startMap(frame, result)
                                                        : trackOnMap(frame, result);
         record(frame, result);
+        if (reference_)
+            T_reference_world_seen_ = reference_->resolvedT_cam_world();
     }
     result.newKeyFrame = newKf != nullptr;
     if (newKf)
@@ -83,6 +86,26 @@ TrackingResult Tracker::track(Frame frame)
     if (newKf)
         mapper_.insertKeyFrame(newKf);
     return result;
+}
+
+void Tracker::followLoopCorrection()
+{
+    if (map_.corrections() == correctionsSeen_)
+        return;
+    correctionsSeen_ = map_.corrections();
+    if (!reference_)
+        return;
+    // T_cam_world_new = T_cam_reference * T_reference_world_new = T_cam_world_old * C.
+    const Eigen::Isometry3d C =
+        T_reference_world_seen_.inverse() * reference_->resolvedT_cam_world();
+    if (last_)
+        last_->T_cam_world = last_->T_cam_world * C;
+    if (lastTracked_T_cam_world_)
+        lastTracked_T_cam_world_ = *lastTracked_T_cam_world_ * C;
+    for (auto& [id, T] : recentPoses_)
+        T = T * C;
+    MRPT_LOG_DEBUG_FMT("followed loop correction %lu",
+                       static_cast<unsigned long>(correctionsSeen_));
 }
 
 std::shared_ptr<KeyFrame> Tracker::startMap(Frame& frame, TrackingResult& result)

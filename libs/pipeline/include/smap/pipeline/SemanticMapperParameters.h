@@ -21,6 +21,7 @@ struct SemanticMapperParameters
     features::OrbParameters orb;
     slam::TrackerParameters tracking;
     slam::LocalMappingParameters localMapping;
+    slam::LoopClosingParameters loopClosing;
     dynamic::DynamicParameters dynamic;
     dynamic::SemanticEvidenceParameters semanticEvidence;
     segmentation::SegmentationParameters segmentation;
@@ -31,13 +32,15 @@ struct SemanticMapperParameters
     /// The parts, in the order the configuration reference lists them.
     std::vector<mrpt::config::CLoadableOptions*> parts()
     {
-        return {&orb,          &tracking,    &localMapping, &dynamic, &semanticEvidence,
-                &segmentation, &association, &map,          &pipeline};
+        return {&orb,     &tracking,         &localMapping, &loopClosing,
+                &dynamic, &semanticEvidence, &segmentation, &association,
+                &map,     &pipeline};
     }
     std::vector<const mrpt::config::CLoadableOptions*> parts() const
     {
-        return {&orb,          &tracking,    &localMapping, &dynamic, &semanticEvidence,
-                &segmentation, &association, &map,          &pipeline};
+        return {&orb,     &tracking,         &localMapping, &loopClosing,
+                &dynamic, &semanticEvidence, &segmentation, &association,
+                &map,     &pipeline};
     }
 };
 }  // namespace smap::pipeline

@@ -15,6 +15,7 @@ enum class TextureKind
     Poster,  ///< random shapes and stroke "text" on paper
     Fabric,  ///< woven stripes and checks (sofa)
     Carpet,  ///< speckled short-pile carpet
+    Paint,   ///< painted plaster: one light colour, faint blotches and a few scuffs
 };
 
 /// A `size` x `size` CV_8UC3 (BGR) texture. Same (kind, size, seed) gives the same pixels.

@@ -16,9 +16,16 @@
 
 namespace smap::sim
 {
+enum class SceneKind
+{
+    Office,       ///< SyntheticScene::makeOffice, the camera motions around its base
+    CorridorLoop  ///< SyntheticScene::makeCorridorLoop, the camera around the loop
+};
+
 struct SequencePreset
 {
     std::string name;
+    SceneKind scene = SceneKind::Office;
     CameraMotionKind motion = CameraMotionKind::Static;
     int walking = 0;
     int sitting = 0;
@@ -26,7 +33,8 @@ struct SequencePreset
 
 /// walking_xyz, walking_halfsphere, walking_rpy, walking_static, sitting_xyz,
 /// sitting_halfsphere, desk_with_person, and static_xyz, static_halfsphere, static_rpy,
-/// static_static, static_handheld (no people).
+/// static_static, static_handheld (no people); corridor_loop (a 43 m lap of a ring corridor,
+/// two people walking in it) and its twin static_corridor_loop.
 std::vector<SequencePreset> sequencePresets();
 /// Throws core::InputError listing the valid names.
 SequencePreset findPreset(const std::string& name);

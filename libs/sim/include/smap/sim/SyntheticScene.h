@@ -6,6 +6,7 @@
 #include <opencv2/core/mat.hpp>
 #include <vector>
 
+#include "smap/sim/CameraMotion.h"
 #include "smap/sim/Person.h"
 #include "smap/sim/PersonSprite.h"
 #include "smap/sim/SceneObject.h"
@@ -24,6 +25,15 @@ public:
     /// their posture.
     static SyntheticScene makeOffice(uint32_t seed, int walking, int sitting,
                                      const std::vector<PersonSprite>& sprites);
+    /// A ring corridor 2 m wide around a 12 x 6 m block (outer walls 16 x 10 m, 2.6 m
+    /// high): walls in panels of different textures (one in three plainly painted) with
+    /// posters, doors, cabinets and plants along them, so that every place looks different;
+    /// `walking` people (0 - 3) walking up and down the corridor. The camera
+    /// path is loopPath(): a lap is 43.0 m, at 1 m/s.
+    static SyntheticScene makeCorridorLoop(uint32_t seed, int walking,
+                                           const std::vector<PersonSprite>& sprites);
+    /// The camera path of the corridor loop (the corridor's centre line, rounded corners).
+    static LoopPath loopPath();
 
     const std::vector<cv::Mat>& textures() const { return textures_; }
     const std::vector<SceneObject>& staticObjects() const { return objects_; }
@@ -40,6 +50,13 @@ private:
     int addTexture(const cv::Mat& t);
     SceneObject& addObject(const std::string& name, uint8_t classId, int texture);
     void addRoomAndFurniture(uint32_t seed);
+    void addCorridorWalls(uint32_t seed);
+    void addCorridorFurniture(uint32_t seed);
+    void addCorridorPeople(uint32_t seed, int walking, const std::vector<PersonSprite>& sprites);
+    /// The standing sprites' indices; throws core::InputError when people are asked for and
+    /// there is none.
+    static std::vector<size_t> standingSprites(const std::vector<PersonSprite>& sprites,
+                                               int walking);
     void addPeople(uint32_t seed, int walking, int sitting,
                    const std::vector<PersonSprite>& sprites);
 

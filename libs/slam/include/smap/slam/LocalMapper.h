@@ -9,6 +9,7 @@
 #include <atomic>
 #include <condition_variable>
 #include <deque>
+#include <functional>
 #include <list>
 #include <memory>
 #include <mutex>
@@ -41,6 +42,17 @@ public:
     /// Blocks until every queued keyframe is processed (end of a run).
     void waitUntilIdle();
 
+    /// Called with each keyframe once it is processed (loop closing), on local mapping's thread.
+    void setProcessedSink(std::function<void(const std::shared_ptr<KeyFrame>&)> sink)
+    {
+        sink_ = std::move(sink);
+    }
+    /// Held while a keyframe is processed: loop correction holds it to keep local mapping still.
+    std::mutex& processingMutex() { return processing_; }
+    /// True while a keyframe waits for processingMutex() (a loop correction's bundle adjustment
+    /// stops early then).
+    const std::atomic<bool>& keyFrameWaiting() const { return waiting_; }
+
     struct Stats
     {
         size_t keyframesProcessed = 0;
@@ -57,6 +69,7 @@ public:
 private:
     void run();
     void process(const std::shared_ptr<KeyFrame>& kf);
+    void processHeld(const std::shared_ptr<KeyFrame>& kf);
     void linkNewKeyFrame(const std::shared_ptr<KeyFrame>& kf);
     void cullRecentPoints(const KeyFrame& kf);
     void fuseWithNeighbours(const std::shared_ptr<KeyFrame>& kf);
@@ -75,6 +88,9 @@ private:
     std::atomic<bool> abortBa_{false};
     Stats stats_;    // guarded by queueMutex_
     Stats pending_;  // counted by the worker under the map mutex, merged into stats_
+    std::function<void(const std::shared_ptr<KeyFrame>&)> sink_;
+    std::mutex processing_;
+    std::atomic<bool> waiting_{false};
     std::unique_ptr<std::thread> thread_;
 };
 }  // namespace smap::slam

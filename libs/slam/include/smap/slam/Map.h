@@ -36,10 +36,15 @@ public:
     /// Drops bad keyframes and points from the live sets.
     void removeBad();
 
+    /// Loop corrections applied so far: tracking re-expresses its last poses when it changes.
+    uint64_t corrections() const { return corrections_; }
+    void noteCorrection() { ++corrections_; }
+
 private:
     std::mutex mutex_;
     uint64_t nextKeyFrameId_ = 0;
     uint64_t nextPointId_ = 0;
+    uint64_t corrections_ = 0;
     std::map<uint64_t, std::shared_ptr<KeyFrame>> keyframes_;
     std::map<uint64_t, std::shared_ptr<KeyFrame>> all_;
     std::map<uint64_t, std::shared_ptr<MapPoint>> points_;

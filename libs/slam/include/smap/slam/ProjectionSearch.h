@@ -35,6 +35,12 @@ int searchLocalPoints(Frame& frame, const std::vector<std::shared_ptr<MapPoint>>
 /// A keyframe's map points into `frame` (relocalisation), skipping points it matched already.
 int searchKeyFramePoints(Frame& frame, const KeyFrame& kf, double radius, int max_distance);
 
+/// The keypoint of `kf` that `mp`, seen from `T_cam_world`, projects onto with a similar
+/// descriptor (within `radius` px times its predicted level's scale, the reprojection error
+/// within the chi-square bound, at most kDescriptorLow bits), or -1.
+int matchProjectedPoint(const KeyFrame& kf, const Eigen::Isometry3d& T_cam_world,
+                        const MapPoint& mp, double radius);
+
 /// Projects `points` into `kf`; a point that lands on a keypoint with a similar descriptor
 /// either becomes its observation or, when the keypoint has a point already, the two are fused
 /// (the one with fewer observations is replaced). Returns the number fused or added.

@@ -1,6 +1,7 @@
-// ORB-SLAM-style RGB-D SLAM: owns the map, the ORB extractor, tracking and local mapping (in its
-// own thread unless [local_mapping] threaded = false). Frames are prepared (features, depth)
-// and then tracked, so that a dynamic filter can weight the keypoints in between.
+// ORB-SLAM-style RGB-D SLAM: owns the map, the ORB extractor, tracking, local mapping (in its
+// own thread unless [local_mapping] threaded = false) and loop closing (after local mapping).
+// Frames are prepared (features, depth) and then tracked, so that a dynamic filter can weight the
+// keypoints in between.
 #pragma once
 
 #include <mrpt/system/COutputLogger.h>
@@ -17,6 +18,7 @@
 #include "smap/slam/BundleAdjustment.h"
 #include "smap/slam/Frame.h"
 #include "smap/slam/LocalMapper.h"
+#include "smap/slam/LoopCloser.h"
 #include "smap/slam/SlamParameters.h"
 #include "smap/slam/Tracker.h"
 
@@ -33,7 +35,7 @@ class RgbdSlam : public mrpt::system::COutputLogger
 {
 public:
     RgbdSlam(const features::OrbParameters& orb, const TrackerParameters& tracking,
-             const LocalMappingParameters& mapping);
+             const LocalMappingParameters& mapping, const LoopClosingParameters& loop = {});
     ~RgbdSlam() override;
     RgbdSlam(const RgbdSlam&) = delete;
     RgbdSlam& operator=(const RgbdSlam&) = delete;
@@ -71,6 +73,7 @@ public:
     /// Map points created so far, culled and fused ones included.
     size_t numPointsCreated() const;
     LocalMapper::Stats mappingStats() const { return mapper_->stats(); }
+    LoopClosingStats loopClosingStats() const { return loopCloser_->stats(); }
 
 private:
     /// Every frame with a pose and its final T_world_cam (through the refined, possibly culled
@@ -83,6 +86,7 @@ private:
     std::unique_ptr<features::OrbExtractor> extractor_;
     std::unique_ptr<Map> map_;
     std::unique_ptr<LocalMapper> mapper_;
+    std::unique_ptr<LoopCloser> loopCloser_;
     std::unique_ptr<Tracker> tracker_;
     uint64_t nextFrameId_ = 0;
     bool finished_ = false;

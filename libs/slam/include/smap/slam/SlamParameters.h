@@ -1,4 +1,5 @@
-// Options of tracking ([tracking]) and local mapping ([local_mapping]), loaded once from the
+// Options of tracking ([tracking]), local mapping ([local_mapping]) and loop closing
+// ([loop_closing]), loaded once from the
 // configuration. Defaults are ORB-SLAM2's RGB-D values where it has one.
 #pragma once
 
@@ -79,6 +80,47 @@ struct LocalMappingParameters : public mrpt::config::CLoadableOptions
     void saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
                           const std::string& section) const override;
     /// Every key of the section (default [local_mapping]), listed once for loading and saving.
+    core::OptionFields fields(const std::string& section);
+};
+
+struct LoopClosingParameters : public mrpt::config::CLoadableOptions
+{
+    /// Look for places seen before in every new keyframe and correct the drift when one is found.
+    bool enabled = true;
+    /// Detect and correct in its own thread (tracking never waits). false: right after local
+    /// mapping processed the keyframe, on its thread, so that results are deterministic when
+    /// local mapping is synchronous too.
+    bool threaded = true;
+    int min_keyframes = 10;  ///< keyframes in the map before detection starts
+    /// Candidates: keyframes at least this many frames older than the new one (covisible with
+    /// it or not: tracking links a place it comes back to when the drift is small) ...
+    int min_frame_gap = 300;
+    /// ... whose indexed descriptors hold a copy (within 50 bits) of at least this many of the
+    /// new keyframe's ...
+    int min_matches = 40;
+    /// ... and at least this share of the lowest score among its covisible keyframes.
+    double neighbour_score_ratio = 0.75;
+    int max_candidates = 3;  ///< best candidates verified per keyframe
+    /// 3D-3D RANSAC between the keyframe's keypoints (depth) and the candidate's map points:
+    /// inliers within `inlier_distance` (m) needed.
+    int min_inliers = 20;
+    double inlier_distance = 0.05;
+    /// Then the candidate and its covisible keyframes' points projected with that pose: matches
+    /// needed to accept the loop.
+    int min_projected_matches = 80;
+    /// A verified loop whose pose differs from the keyframe's by less than both of these is a
+    /// consistent revisit: counted, nothing corrected.
+    double min_correction_m = 0.02;
+    double min_correction_deg = 0.5;
+    int pose_graph_iterations = 20;
+    /// Robust iterations of the global bundle adjustment after each correction (0: none).
+    int global_ba_iterations = 5;
+
+    void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
+                            const std::string& section) override;
+    void saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
+                          const std::string& section) const override;
+    /// Every key of the section (default [loop_closing]), listed once for loading and saving.
     core::OptionFields fields(const std::string& section);
 };
 }  // namespace smap::slam

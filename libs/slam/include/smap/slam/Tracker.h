@@ -142,6 +142,8 @@ private:
     bool needNewKeyFrame(const Frame& frame) const;
     std::shared_ptr<KeyFrame> createKeyFrame(Frame& frame);
     void followReplacedPoints(Frame& frame) const;
+    /// After a loop correction: the last poses move as the reference keyframe moved.
+    void followLoopCorrection();
     int optimise(Frame& frame);
 
     Map& map_;
@@ -162,6 +164,9 @@ private:
     /// odometry's, refined against the map when that frame is the last one.
     std::optional<uint64_t> poseEarlierFrameFromOdometry(const Frame& frame);
     std::shared_ptr<KeyFrame> reference_;
+    /// The map's loop corrections, and the reference keyframe's pose, at the last frame.
+    uint64_t correctionsSeen_ = 0;
+    Eigen::Isometry3d T_reference_world_seen_ = Eigen::Isometry3d::Identity();
     uint64_t lastKeyFrameFrameId_ = 0;
     uint64_t lastRelocalisationFrameId_ = 0;
     std::vector<KeyFrame*> localKeyFrames_;

@@ -1,0 +1,129 @@
+#!/usr/bin/python3
+"""A long recording that keeps revisiting one room: a TUM folder played forward, backward,
+forward ... (PASSES passes, continuous motion, fresh 30 Hz timestamps, the reference poses
+carried along; every pass after the first starts at the frame after the turn, so the motion
+never stops). semantic-mapper runs on it and on one pass, each under /usr/bin/time -v, and the
+script prints what issue 36 asks of a long recording:
+
+  keyframes               live keyframes at the end (metrics.json), and the ratio to one pass
+  tracking cost           median tracking ms per frame (frames.csv tracking_ms) over frames
+                          1000-1999 and over the last 1000, and their ratio
+  peak memory             maximum resident set size
+  ATE                     RMSE against each reference of the folder (groundtruth_sfm.txt first)
+  loop closures           metrics.json's loop.closures (0 when the build has none)
+
+Usage: bench/long_replay.py [BUILD_DIR] [--data DIR] [--config FILE] [--passes N]
+                            [--keep DIR] [-- extra semantic-mapper args]
+Defaults: build, ../shared/data/7scenes-redkitchen, config/7scenes.ini, 10.
+"""
+import argparse
+import json
+import os
+import re
+import statistics
+import subprocess
+import sys
+import tempfile
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from input_variants import list_variant, read_pairs, references  # noqa: E402
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+def pass_order(n, passes):
+    """Frame indices of `passes` alternating passes over n frames, the turning frame once."""
+    order = list(range(n))
+    for p in range(1, passes):
+        step = list(range(n - 2, -1, -1)) if p % 2 else list(range(1, n))
+        order += step
+    return order
+
+
+def run(build, data, config, out, extra):
+    """Runs semantic-mapper under /usr/bin/time -v; returns the peak RSS in MiB."""
+    cmd = ["/usr/bin/time", "-v", os.path.join(build, "bin", "semantic-mapper"), data,
+           "--config", config, "--out", out, "--quiet", "--set", "output.snapshots=false",
+           "--set", "output.annotated_rawlog=false"] + list(extra)
+    done = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    if done.returncode != 0:
+        sys.exit("semantic-mapper failed on %s:\n%s" % (data, done.stderr[-3000:]))
+    peak = re.search(r"Maximum resident set size \(kbytes\): (\d+)", done.stderr)
+    return int(peak.group(1)) / 1024.0 if peak else float("nan")
+
+
+def frame_costs(out):
+    """Tracking ms per frame (frames.csv tracking_ms: matching to the map and pose
+    optimisation, what grows with the map), in frame order."""
+    with open(os.path.join(out, "frames.csv")) as f:
+        header = f.readline().strip().split(",")
+        col = {name: k for k, name in enumerate(header)}
+        costs = []
+        for line in f:
+            r = line.rstrip("\n").split(",")
+            costs.append(float(r[col["tracking_ms"]] or 0))
+    return costs
+
+
+def ate(build, data, out):
+    rows = []
+    for name in references(data):
+        text = subprocess.run([os.path.join(build, "bin", "smap-eval"), "ate",
+                               os.path.join(data, name), os.path.join(out, "trajectory.txt")],
+                              capture_output=True, text=True).stdout
+        m = re.search(r"rmse\S*\s+([0-9.]+)", text)
+        rows.append((name, float(m.group(1)) if m else float("nan")))
+    return rows
+
+
+def report(label, build, data, out, peak):
+    metrics = json.load(open(os.path.join(out, "metrics.json")))
+    tracking = metrics["tracking"]
+    loop = metrics.get("loop", {})
+    costs = frame_costs(out)
+    print("%s: %d frames, %d with a pose, %d keyframes (%d culled), %d map points, peak %.0f MiB"
+          % (label, len(costs), tracking["frames_with_pose"], tracking["keyframes"],
+             tracking["keyframes_culled"], tracking["map_points"], peak))
+    print("  ATE RMSE %s" % ", ".join("%.1f mm vs %s" % (1000 * r, g)
+                                      for g, r in ate(build, data, out)))
+    if loop:
+        print("  loop closures %d, correction ms median %.1f max %.1f"
+              % (loop.get("closures", 0), loop.get("correction_median_ms", 0.0),
+                 loop.get("correction_max_ms", 0.0)))
+    if len(costs) >= 3000:
+        a, b = statistics.median(costs[1000:2000]), statistics.median(costs[-1000:])
+        print("  tracking ms per frame (median): frames 1000-1999 %.2f, last 1000 %.2f, ratio %.2f"
+              % (a, b, b / a))
+    return tracking["keyframes"]
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("build", nargs="?", default=os.path.join(ROOT, "build"))
+    ap.add_argument("--data", default=os.path.join(ROOT, "..", "shared", "data",
+                                                   "7scenes-redkitchen"))
+    ap.add_argument("--config", default=os.path.join(ROOT, "config", "7scenes.ini"))
+    ap.add_argument("--passes", type=int, default=10)
+    ap.add_argument("--keep", help="write the outputs here instead of a temporary folder")
+    ap.add_argument("extra", nargs=argparse.REMAINDER)
+    a = ap.parse_args()
+    extra = a.extra[1:] if a.extra[:1] == ["--"] else a.extra
+    data = os.path.abspath(a.data)
+    if not os.path.isdir(data):
+        sys.exit("long_replay.py: %s not found" % data)
+    with tempfile.TemporaryDirectory() as tmp:
+        work = a.keep or tmp
+        os.makedirs(work, exist_ok=True)
+        n = len(read_pairs(data))
+        seq = os.path.join(work, "passes-%d" % a.passes)
+        if not os.path.exists(os.path.join(seq, "rgb.txt")):
+            list_variant(data, seq, pass_order(n, a.passes), True)
+        one = report("one pass", a.build, data, os.path.join(work, "out-one"),
+                     run(a.build, data, a.config, os.path.join(work, "out-one"), extra))
+        many = report("%d passes" % a.passes, a.build, seq, os.path.join(work, "out-passes"),
+                      run(a.build, seq, a.config, os.path.join(work, "out-passes"), extra))
+        print("keyframes: %d passes / one pass = %.2f" % (a.passes, many / max(one, 1)))
+
+
+if __name__ == "__main__":
+    main()

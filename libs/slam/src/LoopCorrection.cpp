@@ -1,0 +1,184 @@
+#include "smap/slam/LoopCorrection.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <mutex>
+#include <set>
+
+#include "smap/slam/Map.h"
+#include "smap/slam/ProjectionSearch.h"
+
+namespace smap::slam
+{
+namespace
+{
+constexpr int kEssentialWeight = 100;  ///< covisibility that makes a pose-graph edge
+constexpr double kMinChainWeight = 0.01;
+constexpr int kLoopNeighbours = 10;
+constexpr double kFuseRadius = 4.0;
+
+using Poses = std::map<uint64_t, Eigen::Isometry3d>;
+
+PoseGraphEdge edgeBetween(uint64_t i, uint64_t j, const Poses& T_cam_world, double weight = 1.0)
+{
+    return {i, j, T_cam_world.at(i) * T_cam_world.at(j).inverse(), weight};
+}
+
+/// How much a relative pose between two keyframes is worth: fully when they share
+/// kEssentialWeight points, little when they share none (the step over a re-anchoring, where
+/// the pose was extrapolated: the correction should go there).
+double chainWeight(const KeyFrame& a, const KeyFrame& b)
+{
+    const double shared = a.weight(&b);
+    return std::max(kMinChainWeight, std::sqrt(std::min(1.0, shared / kEssentialWeight)));
+}
+
+/// Consecutive keyframes, and strongly covisible ones, with their relative poses as they are.
+std::vector<PoseGraphEdge> graphEdges(const Map& map, const Poses& old)
+{
+    std::vector<PoseGraphEdge> edges;
+    uint64_t previous = old.begin()->first;
+    for (const auto& [id, T] : old)
+    {
+        if (id != previous)
+            edges.push_back(
+                edgeBetween(previous, id, old,
+                            chainWeight(*map.keyframes().at(previous), *map.keyframes().at(id))));
+        previous = id;
+        for (const KeyFrame* c : map.keyframes().at(id)->bestCovisibles())
+            if (c->id() > id && old.count(c->id()) &&
+                map.keyframes().at(id)->weight(c) >= kEssentialWeight)
+                edges.push_back(edgeBetween(id, c->id(), old));
+    }
+    return edges;
+}
+
+std::vector<KeyFrame*> liveWindow(KeyFrame* centre, int n)
+{
+    std::vector<KeyFrame*> out = {centre};
+    for (KeyFrame* c : centre->bestCovisibles(n))
+        if (!c->isBad())
+            out.push_back(c);
+    return out;
+}
+
+struct GraphCopy
+{
+    Poses old, initial;
+    std::vector<PoseGraphEdge> edges;
+    std::set<uint64_t> fixed;
+};
+
+GraphCopy copyGraph(Map& map, KeyFrame& kf, const LoopMatch& match,
+                    std::vector<PoseGraphEdge>& loopEdges)
+{
+    GraphCopy g;
+    for (const auto& [id, k] : map.keyframes())
+        g.old[id] = k->T_cam_world();
+    g.initial = g.old;
+    // The new keyframe's neighbourhood moves rigidly with it to where the loop puts it.
+    const Eigen::Isometry3d T_kf_old = kf.T_cam_world();
+    for (KeyFrame* w : liveWindow(&kf, -1))
+        g.initial[w->id()] = w->T_cam_world() * T_kf_old.inverse() * match.T_cam_world;
+    loopEdges.push_back(
+        {match.loop->id(), kf.id(), match.loop->T_cam_world() * match.T_cam_world.inverse(), 1.0});
+    g.edges = graphEdges(map, g.old);
+    g.edges.insert(g.edges.end(), loopEdges.begin(), loopEdges.end());
+    g.fixed = {g.old.begin()->first, match.loop->id()};
+    return g;
+}
+
+/// Every live keyframe and point to the corrected poses. Keyframes created while the graph was
+/// solved follow the newest keyframe that was in it.
+void writeBack(Map& map, const Poses& old, const Poses& corrected)
+{
+    Poses C;  // per keyframe: T_cam_world_new = T_cam_world_old * C
+    for (const auto& [id, T] : corrected)
+        C[id] = old.at(id).inverse() * T;
+    const Eigen::Isometry3d newest = C.rbegin()->second;
+    for (const auto& [id, kf] : map.keyframes())
+    {
+        if (!C.count(id))
+            C[id] = newest;
+        kf->setPose(kf->T_cam_world() * C[id]);
+    }
+    for (const auto& [id, mp] : map.points())
+    {
+        if (mp->isBad() || mp->observations().empty())
+            continue;
+        const auto c = C.find(mp->observations().begin()->first);
+        mp->position_world = (c != C.end() ? c->second : newest).inverse() * mp->position_world;
+    }
+}
+
+int fuseAcrossLoop(KeyFrame& kf, KeyFrame& loop, int covisibility_min_weight)
+{
+    std::vector<std::shared_ptr<MapPoint>> loopPoints;
+    std::set<uint64_t> ids;
+    const auto loopSide = liveWindow(&loop, kLoopNeighbours);
+    for (KeyFrame* k : loopSide)
+        for (const auto& mp : k->points)
+            if (mp && !mp->isBad() && ids.insert(mp->id()).second)
+                loopPoints.push_back(mp);
+    int fused = 0;
+    const auto kfSide = liveWindow(&kf, -1);
+    for (KeyFrame* w : kfSide)
+        fused += fuse(*w, loopPoints, kFuseRadius);
+    for (KeyFrame* w : kfSide)
+    {
+        for (const auto& mp : w->points)
+        {
+            if (mp && !mp->isBad())
+            {
+                mp->computeDistinctiveDescriptor();
+                mp->updateNormalAndDepth();
+            }
+        }
+    }
+    for (KeyFrame* w : kfSide)
+        w->updateConnections(covisibility_min_weight);
+    for (KeyFrame* w : loopSide)
+        w->updateConnections(covisibility_min_weight);
+    return fused;
+}
+}  // namespace
+
+int joinConsistentRevisit(Map& map, const std::shared_ptr<KeyFrame>& kf, const LoopMatch& match,
+                          std::vector<PoseGraphEdge>& loopEdges, int covisibility_min_weight)
+{
+    std::lock_guard<std::mutex> lock(map.mutex());
+    if (kf->isBad() || match.loop->isBad())
+        return 0;
+    loopEdges.push_back(
+        {match.loop->id(), kf->id(), match.loop->T_cam_world() * match.T_cam_world.inverse(), 1.0});
+    return fuseAcrossLoop(*kf, *match.loop, covisibility_min_weight);
+}
+
+LoopCorrectionOutcome correctLoop(Map& map, const std::shared_ptr<KeyFrame>& kf,
+                                  const LoopMatch& match, std::vector<PoseGraphEdge>& loopEdges,
+                                  int iterations, int covisibility_min_weight)
+{
+    GraphCopy g;
+    {
+        std::lock_guard<std::mutex> lock(map.mutex());
+        if (kf->isBad() || match.loop->isBad())
+            return {};
+        g = copyGraph(map, *kf, match, loopEdges);
+    }
+    Poses corrected = g.initial;
+    optimisePoseGraph(corrected, g.edges, g.fixed, iterations);
+    LoopCorrectionOutcome out;
+    out.T_loop_keyframe = loopEdges.back().T_i_j;
+    out.keyframes = static_cast<int>(corrected.size());
+    std::lock_guard<std::mutex> lock(map.mutex());
+    const Eigen::Isometry3d before = kf->T_cam_world();
+    writeBack(map, g.old, corrected);
+    const Eigen::Isometry3d moved = before.inverse() * kf->T_cam_world();
+    out.moved_m = (kf->centre_world() - before.inverse().translation()).norm();
+    out.turned_deg = Eigen::AngleAxisd(moved.rotation()).angle() * 180.0 / M_PI;
+    out.pointsFused = fuseAcrossLoop(*kf, *match.loop, covisibility_min_weight);
+    map.noteCorrection();
+    return out;
+}
+}  // namespace smap::slam
