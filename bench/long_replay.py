@@ -87,9 +87,9 @@ def report(label, build, data, out, peak):
     print("  ATE RMSE %s" % ", ".join("%.1f mm vs %s" % (1000 * r, g)
                                       for g, r in ate(build, data, out)))
     if loop:
-        print("  loop closures %d, correction ms median %.1f max %.1f"
-              % (loop.get("closures", 0), loop.get("correction_median_ms", 0.0),
-                 loop.get("correction_max_ms", 0.0)))
+        print("  loop closures %d, consistent revisits %d, correction ms median %.1f max %.1f"
+              % (loop.get("closures", 0), loop.get("consistent_revisits", 0),
+                 loop.get("correction_median_ms", 0.0), loop.get("correction_max_ms", 0.0)))
     if len(costs) >= 3000:
         a, b = statistics.median(costs[1000:2000]), statistics.median(costs[-1000:])
         print("  tracking ms per frame (median): frames 1000-1999 %.2f, last 1000 %.2f, ratio %.2f"
