@@ -8,6 +8,7 @@
 #include <opencv2/core.hpp>
 #include <random>
 
+#include "KeyFrameFixtures.h"
 #include "smap/core/InputError.h"
 #include "smap/slam/KeyFrameDatabase.h"
 #include "smap/slam/LoopCorrection.h"
@@ -256,26 +257,6 @@ TEST(LoopClosingParameters, InvalidValuesNameTheKey)
 
 namespace
 {
-slam::Frame frameWithKeypoints(size_t n, const Eigen::Isometry3d& T_cam_world)
-{
-    slam::Frame f;
-    f.features.pyramid = features::ScalePyramid::make(8, 1.2);
-    for (size_t i = 0; i < n; ++i)
-    {
-        cv::KeyPoint kp(static_cast<float>(10 + i), 20.0F, 31);
-        kp.octave = 0;
-        f.features.keypoints.push_back(kp);
-        f.features.undistorted.push_back(kp.pt);
-        f.features.depth.push_back(2.0F);
-        f.features.rightU.push_back(kp.pt.x - 20.0F);
-    }
-    f.features.descriptors = cv::Mat::zeros(static_cast<int>(n), 32, CV_8UC1);
-    f.weights.assign(n, 1.0F);
-    f.clearMatches();
-    f.T_cam_world = T_cam_world;
-    return f;
-}
-
 Eigen::Isometry3d along(double x)
 {
     Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
@@ -299,7 +280,7 @@ TEST(LoopCorrection, StepWithoutSharedPointsTakesTheCorrectionAndPointsFollow)
         Eigen::Isometry3d T = along(0.3 * k);
         if (k == 5)
             T = T * Eigen::Translation3d(-off);  // camera centre moved by +off
-        kfs.push_back(map.createKeyFrame(frameWithKeypoints(300, T)));
+        kfs.push_back(map.createKeyFrame(test::frameWithKeypoints(300, T)));
     }
     std::vector<std::shared_ptr<slam::MapPoint>> lastPoints;
     for (int k = 0; k < 6; ++k)

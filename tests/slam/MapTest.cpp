@@ -2,32 +2,10 @@
 // culling that keeps a culled keyframe's pose tied to its parent.
 #include <gtest/gtest.h>
 
+#include "KeyFrameFixtures.h"
 #include "smap/slam/Map.h"
 
 using namespace smap;
-
-namespace
-{
-slam::Frame frameWithKeypoints(size_t n, const Eigen::Isometry3d& T_cam_world)
-{
-    slam::Frame f;
-    f.features.pyramid = features::ScalePyramid::make(8, 1.2);
-    for (size_t i = 0; i < n; ++i)
-    {
-        cv::KeyPoint kp(static_cast<float>(10 + i), 20.0F, 31);
-        kp.octave = 0;
-        f.features.keypoints.push_back(kp);
-        f.features.undistorted.push_back(kp.pt);
-        f.features.depth.push_back(2.0F);
-        f.features.rightU.push_back(kp.pt.x - 20.0F);
-    }
-    f.features.descriptors = cv::Mat::zeros(static_cast<int>(n), 32, CV_8UC1);
-    f.weights.assign(n, 1.0F);
-    f.clearMatches();
-    f.T_cam_world = T_cam_world;
-    return f;
-}
-}  // namespace
 
 TEST(Map, CovisibilityCountsSharedPointsAndCullingFollowsTheParent)
 {
@@ -35,8 +13,8 @@ TEST(Map, CovisibilityCountsSharedPointsAndCullingFollowsTheParent)
     Eigen::Isometry3d T1 = Eigen::Isometry3d::Identity();
     Eigen::Isometry3d T2 = T1;
     T2.translation() = Eigen::Vector3d(0.1, 0, 0);
-    auto a = map.createKeyFrame(frameWithKeypoints(30, T1));
-    auto b = map.createKeyFrame(frameWithKeypoints(30, T2));
+    auto a = map.createKeyFrame(test::frameWithKeypoints(30, T1));
+    auto b = map.createKeyFrame(test::frameWithKeypoints(30, T2));
     // 20 points seen by both, 10 only by a.
     for (size_t i = 0; i < 30; ++i)
     {

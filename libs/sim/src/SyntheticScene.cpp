@@ -34,6 +34,15 @@ SceneObject& SyntheticScene::addObject(const std::string& name, uint8_t classId,
     return objects_.back();
 }
 
+void SyntheticScene::addPerson(PersonSpec spec, const PersonSprite& sprite)
+{
+    spec.sprite = personSprites_.size();
+    personSprites_.emplace_back(sprite.image, BillboardStyle{kPersonRelief, true});
+    const uint16_t id = nextInstance_++;
+    instanceClasses_[id] = voc::kPerson;
+    people_.emplace_back(spec, id);
+}
+
 SyntheticScene SyntheticScene::makeOffice(uint32_t seed, int walking, int sitting,
                                           const std::vector<PersonSprite>& sprites)
 {
@@ -168,17 +177,9 @@ void SyntheticScene::addPeople(uint32_t seed, int walking, int sitting,
             spec.seatHeight = 0.47f;
             spec.phase = 0.9f * static_cast<float>(i);
         }
-        spec.sprite = personSprites_.size();
-        personSprites_.emplace_back(sprite.image, BillboardStyle{kPersonRelief, true});
-        const uint16_t id = nextInstance_++;
-        instanceClasses_[id] = voc::kPerson;
-        people_.emplace_back(spec, id);
+        addPerson(spec, sprite);
     }
 }
-}  // namespace smap::sim
-
-namespace smap::sim
-{
 namespace
 {
 constexpr float kOuterW = 16.0f, kOuterD = 10.0f, kCorridor = 2.0f, kCorridorHeight = 2.6f;
@@ -332,11 +333,7 @@ void SyntheticScene::addCorridorPeople(uint32_t seed, int walking,
         spec.path = paths[static_cast<size_t>(i)];
         spec.speed = 0.9f + 0.2f * static_cast<float>(i);
         spec.phase = 2.3f * static_cast<float>(i);
-        spec.sprite = personSprites_.size();
-        personSprites_.emplace_back(sprite.image, BillboardStyle{kPersonRelief, true});
-        const uint16_t id = nextInstance_++;
-        instanceClasses_[id] = voc::kPerson;
-        people_.emplace_back(spec, id);
+        addPerson(spec, sprite);
     }
 }
 }  // namespace smap::sim

@@ -49,6 +49,8 @@ public:
 private:
     int addTexture(const cv::Mat& t);
     SceneObject& addObject(const std::string& name, uint8_t classId, int texture);
+    /// A person drawn with their own billboard of `sprite`, under the next instance id.
+    void addPerson(PersonSpec spec, const PersonSprite& sprite);
     void addRoomAndFurniture(uint32_t seed);
     void addCorridorWalls(uint32_t seed);
     void addCorridorFurniture(uint32_t seed);
