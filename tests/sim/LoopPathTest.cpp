@@ -31,7 +31,9 @@ TEST(LoopPath, ClosedContinuousAndAsLongAsItsLength)
         ASSERT_LT(step, 0.00101) << "jump at s = " << s;
         EXPECT_NEAR(h.norm(), 1.0, 1e-9);
         if (step > 1e-6)
+        {
             EXPECT_GT(h.dot((q - prev) / step), 0.999) << "heading off at s = " << s;
+        }
         walked += step;
         prev = q;
     }
