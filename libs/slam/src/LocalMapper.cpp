@@ -3,6 +3,7 @@
 #include <chrono>
 #include <set>
 
+#include "KeyFrameQueue.h"
 #include "smap/core/Elapsed.h"
 #include "smap/slam/Map.h"
 #include "smap/slam/ProjectionSearch.h"
@@ -12,89 +13,48 @@ namespace smap::slam
 using core::secondsSince;
 
 LocalMapper::LocalMapper(Map& map, const LocalMappingParameters& params)
-    : COutputLogger("local-mapping"), map_(map), params_(params)
+    : COutputLogger("local-mapping"),
+      map_(map),
+      params_(params),
+      queue_(std::make_unique<KeyFrameQueue>(params_.threaded,
+                                             [this](const std::shared_ptr<KeyFrame>& kf)
+                                             {
+                                                 abortBa_ = false;
+                                                 process(kf);
+                                             }))
 {
-    if (params_.threaded)
-        thread_ = std::make_unique<std::thread>([this] { run(); });
 }
 
 LocalMapper::~LocalMapper()
 {
-    if (thread_)
-    {
-        {
-            std::lock_guard<std::mutex> lock(queueMutex_);
-            stop_ = true;
-        }
-        abortBa_ = true;
-        queueCv_.notify_all();
-        thread_->join();
-    }
+    abortBa_ = true;
+    queue_->stop();
 }
 
 void LocalMapper::insertKeyFrame(const std::shared_ptr<KeyFrame>& kf)
 {
-    if (!thread_)
-    {
-        abortBa_ = false;
-        process(kf);
-        return;
-    }
-    {
-        std::lock_guard<std::mutex> lock(queueMutex_);
-        queue_.push_back(kf);
-    }
-    queueCv_.notify_one();
+    queue_->push(kf);
 }
 
 bool LocalMapper::idle() const
 {
-    std::lock_guard<std::mutex> lock(queueMutex_);
-    return queue_.empty() && !busy_;
+    return queue_->idle();
 }
 
 size_t LocalMapper::queued() const
 {
-    std::lock_guard<std::mutex> lock(queueMutex_);
-    return queue_.size();
+    return queue_->waiting();
 }
 
 void LocalMapper::waitUntilIdle()
 {
-    if (!thread_)
-        return;
-    std::unique_lock<std::mutex> lock(queueMutex_);
-    idleCv_.wait(lock, [this] { return queue_.empty() && !busy_; });
+    queue_->waitUntilIdle();
 }
 
 LocalMapper::Stats LocalMapper::stats() const
 {
-    std::lock_guard<std::mutex> lock(queueMutex_);
+    std::lock_guard<std::mutex> lock(statsMutex_);
     return stats_;
-}
-
-void LocalMapper::run()
-{
-    for (;;)
-    {
-        std::shared_ptr<KeyFrame> kf;
-        {
-            std::unique_lock<std::mutex> lock(queueMutex_);
-            queueCv_.wait(lock, [this] { return stop_ || !queue_.empty(); });
-            if (stop_)
-                return;
-            kf = queue_.front();
-            queue_.pop_front();
-            busy_ = true;
-            abortBa_ = false;
-        }
-        process(kf);
-        {
-            std::lock_guard<std::mutex> lock(queueMutex_);
-            busy_ = false;
-        }
-        idleCv_.notify_all();
-    }
 }
 
 void LocalMapper::process(const std::shared_ptr<KeyFrame>& kf)
@@ -119,11 +79,7 @@ void LocalMapper::processHeld(const std::shared_ptr<KeyFrame>& kf)
         fuseWithNeighbours(kf);
     }
     // Bundle adjustment is skipped while more keyframes wait: they will run it.
-    bool moreWaiting = false;
-    {
-        std::lock_guard<std::mutex> lock(queueMutex_);
-        moreWaiting = !queue_.empty();
-    }
+    const bool moreWaiting = queue_->waiting() > 0;
     BundleAdjustmentStats ba;
     double baSeconds = 0.0;
     if (!moreWaiting && !abortBa_)
@@ -137,7 +93,7 @@ void LocalMapper::processHeld(const std::shared_ptr<KeyFrame>& kf)
         cullKeyFrames(*kf);
         map_.removeBad();
     }
-    std::lock_guard<std::mutex> lock(queueMutex_);
+    std::lock_guard<std::mutex> lock(statsMutex_);
     stats_.pointsCulled += pending_.pointsCulled;
     stats_.pointsFused += pending_.pointsFused;
     stats_.keyframesCulled += pending_.keyframesCulled;

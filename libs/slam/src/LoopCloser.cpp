@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "KeyFrameQueue.h"
 #include "LoopDetector.h"
 #include "smap/core/Elapsed.h"
 #include "smap/slam/BundleAdjustment.h"
@@ -21,10 +22,11 @@ LoopCloser::LoopCloser(Map& map, LocalMapper& mapper, const LoopClosingParameter
       mapper_(mapper),
       params_(params),
       covisibilityMinWeight_(covisibility_min_weight),
-      detector_(std::make_unique<LoopDetector>(params))
+      detector_(std::make_unique<LoopDetector>(params)),
+      queue_(std::make_unique<KeyFrameQueue>(params_.enabled && params_.threaded,
+                                             [this](const std::shared_ptr<KeyFrame>& kf)
+                                             { process(kf); }))
 {
-    if (params_.enabled && params_.threaded)
-        thread_ = std::make_unique<std::thread>([this] { run(); });
 }
 
 LoopCloser::~LoopCloser()
@@ -34,68 +36,24 @@ LoopCloser::~LoopCloser()
 
 void LoopCloser::stop()
 {
-    {
-        std::lock_guard<std::mutex> lock(queueMutex_);
-        stop_ = true;
-    }
-    queueCv_.notify_all();
-    if (thread_ && thread_->joinable())
-        thread_->join();
-    idleCv_.notify_all();
+    queue_->stop();
 }
 
 void LoopCloser::insertKeyFrame(const std::shared_ptr<KeyFrame>& kf)
 {
-    if (!params_.enabled)
-        return;
-    {
-        std::lock_guard<std::mutex> lock(queueMutex_);
-        if (stop_)
-            return;
-        if (thread_)
-            queue_.push_back(kf);
-    }
-    if (thread_)
-        queueCv_.notify_one();
-    else
-        process(kf);
+    if (params_.enabled)
+        queue_->push(kf);
 }
 
 void LoopCloser::waitUntilIdle()
 {
-    if (!thread_)
-        return;
-    std::unique_lock<std::mutex> lock(queueMutex_);
-    idleCv_.wait(lock, [this] { return stop_ || (queue_.empty() && !busy_); });
+    queue_->waitUntilIdle();
 }
 
 LoopClosingStats LoopCloser::stats() const
 {
-    std::lock_guard<std::mutex> lock(queueMutex_);
+    std::lock_guard<std::mutex> lock(statsMutex_);
     return stats_;
-}
-
-void LoopCloser::run()
-{
-    for (;;)
-    {
-        std::shared_ptr<KeyFrame> kf;
-        {
-            std::unique_lock<std::mutex> lock(queueMutex_);
-            queueCv_.wait(lock, [this] { return stop_ || !queue_.empty(); });
-            if (stop_)
-                return;
-            kf = queue_.front();
-            queue_.pop_front();
-            busy_ = true;
-        }
-        process(kf);
-        {
-            std::lock_guard<std::mutex> lock(queueMutex_);
-            busy_ = false;
-        }
-        idleCv_.notify_all();
-    }
 }
 
 void LoopCloser::process(const std::shared_ptr<KeyFrame>& kf)
@@ -116,7 +74,7 @@ void LoopCloser::process(const std::shared_ptr<KeyFrame>& kf)
             c.projectedMatches);
     }
     {
-        std::lock_guard<std::mutex> lock(queueMutex_);
+        std::lock_guard<std::mutex> lock(statsMutex_);
         stats_.keyframesChecked++;
         stats_.candidatesVerified += found.checks.size();
         stats_.candidatesRejected += found.checks.size() - (found.match ? 1 : 0);
@@ -141,7 +99,7 @@ void LoopCloser::process(const std::shared_ptr<KeyFrame>& kf)
             "consistent revisit: keyframe %lu revisits keyframe %lu (%.3f m, %.2f deg)",
             static_cast<unsigned long>(c.keyFrameId), static_cast<unsigned long>(c.loopKeyFrameId),
             c.correction_m, c.correction_deg);
-        std::lock_guard<std::mutex> lock(queueMutex_);
+        std::lock_guard<std::mutex> lock(statsMutex_);
         stats_.closures.push_back(c);
         return;
     }
@@ -152,7 +110,7 @@ void LoopCloser::process(const std::shared_ptr<KeyFrame>& kf)
         static_cast<unsigned long>(c.loopKeyFrameId), static_cast<unsigned long>(c.loopFrameId),
         c.inliers, c.projectedMatches, c.correction_m, c.correction_deg, c.keyframesCorrected,
         c.pointsFused, 1e3 * c.correctionSeconds, 1e3 * c.globalBaSeconds);
-    std::lock_guard<std::mutex> lock(queueMutex_);
+    std::lock_guard<std::mutex> lock(statsMutex_);
     stats_.closures.push_back(c);
 }
 void LoopCloser::close(const std::shared_ptr<KeyFrame>& kf, const LoopMatch& match, LoopClosure& c)

@@ -7,13 +7,10 @@
 #include <mrpt/system/COutputLogger.h>
 
 #include <atomic>
-#include <condition_variable>
-#include <deque>
 #include <functional>
 #include <list>
 #include <memory>
 #include <mutex>
-#include <thread>
 
 #include "smap/slam/BundleAdjustment.h"
 #include "smap/slam/SlamParameters.h"
@@ -21,6 +18,7 @@
 namespace smap::slam
 {
 class KeyFrame;
+class KeyFrameQueue;
 class Map;
 class MapPoint;
 
@@ -67,7 +65,6 @@ public:
     Stats stats() const;
 
 private:
-    void run();
     void process(const std::shared_ptr<KeyFrame>& kf);
     void processHeld(const std::shared_ptr<KeyFrame>& kf);
     void linkNewKeyFrame(const std::shared_ptr<KeyFrame>& kf);
@@ -79,18 +76,13 @@ private:
     LocalMappingParameters params_;
     std::list<std::shared_ptr<MapPoint>> recentPoints_;
 
-    mutable std::mutex queueMutex_;
-    std::condition_variable queueCv_;
-    std::condition_variable idleCv_;
-    std::deque<std::shared_ptr<KeyFrame>> queue_;
-    bool busy_ = false;
-    bool stop_ = false;
+    mutable std::mutex statsMutex_;
     std::atomic<bool> abortBa_{false};
-    Stats stats_;    // guarded by queueMutex_
+    Stats stats_;    // guarded by statsMutex_
     Stats pending_;  // counted by the worker under the map mutex, merged into stats_
     std::function<void(const std::shared_ptr<KeyFrame>&)> sink_;
     std::mutex processing_;
     std::atomic<bool> waiting_{false};
-    std::unique_ptr<std::thread> thread_;
+    std::unique_ptr<KeyFrameQueue> queue_;  // last: its thread goes first
 };
 }  // namespace smap::slam

@@ -10,11 +10,8 @@
 #include <mrpt/system/COutputLogger.h>
 
 #include <Eigen/Geometry>
-#include <condition_variable>
-#include <deque>
 #include <memory>
 #include <mutex>
-#include <thread>
 #include <vector>
 
 #include "smap/slam/SlamParameters.h"
@@ -22,6 +19,7 @@
 namespace smap::slam
 {
 class KeyFrame;
+class KeyFrameQueue;
 class LocalMapper;
 class LoopDetector;
 class Map;
@@ -75,7 +73,6 @@ public:
     LoopClosingStats stats() const;
 
 private:
-    void run();
     void process(const std::shared_ptr<KeyFrame>& kf);
     /// With local mapping held still: corrects (or joins a consistent revisit), then the
     /// global bundle adjustment.
@@ -88,13 +85,8 @@ private:
     std::unique_ptr<LoopDetector> detector_;
     std::vector<PoseGraphEdge> loopEdges_;
 
-    mutable std::mutex queueMutex_;
-    std::condition_variable queueCv_;
-    std::condition_variable idleCv_;
-    std::deque<std::shared_ptr<KeyFrame>> queue_;
-    bool busy_ = false;
-    bool stop_ = false;
-    LoopClosingStats stats_;  // guarded by queueMutex_
-    std::unique_ptr<std::thread> thread_;
+    mutable std::mutex statsMutex_;
+    LoopClosingStats stats_;                // guarded by statsMutex_
+    std::unique_ptr<KeyFrameQueue> queue_;  // last: its thread goes first
 };
 }  // namespace smap::slam
