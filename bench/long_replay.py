@@ -105,9 +105,12 @@ def main():
     ap.add_argument("--config", default=os.path.join(ROOT, "config", "7scenes.ini"))
     ap.add_argument("--passes", type=int, default=10)
     ap.add_argument("--keep", help="write the outputs here instead of a temporary folder")
-    ap.add_argument("extra", nargs=argparse.REMAINDER)
-    a = ap.parse_args()
-    extra = a.extra[1:] if a.extra[:1] == ["--"] else a.extra
+    # Everything after "--" goes to semantic-mapper (argparse's REMAINDER after an optional
+    # positional would swallow the options too).
+    argv = sys.argv[1:]
+    cut = argv.index("--") if "--" in argv else len(argv)
+    a = ap.parse_args(argv[:cut])
+    extra = argv[cut + 1:]
     data = os.path.abspath(a.data)
     if not os.path.isdir(data):
         sys.exit("long_replay.py: %s not found" % data)

@@ -9,18 +9,30 @@
 
 namespace smap::slam
 {
+namespace
+{
+/// [tracking] revisit_max_frames = -1 follows loop closing: tracking joins the places loop
+/// closing does not look at (younger than min_frame_gap), or every place when it is off.
+TrackerParameters resolveRevisitAge(TrackerParameters tracking, const LoopClosingParameters& loop)
+{
+    if (tracking.revisit_max_frames < 0)
+        tracking.revisit_max_frames = loop.enabled ? loop.min_frame_gap : 0;
+    return tracking;
+}
+}  // namespace
+
 RgbdSlam::RgbdSlam(const features::OrbParameters& orb, const TrackerParameters& tracking,
                    const LocalMappingParameters& mapping, const LoopClosingParameters& loop)
     : COutputLogger("slam"),
       orbParams_(orb),
-      trackingParams_(tracking),
+      trackingParams_(resolveRevisitAge(tracking, loop)),
       mappingParams_(mapping),
       extractor_(std::make_unique<features::OrbExtractor>(orb)),
       map_(std::make_unique<Map>()),
       mapper_(std::make_unique<LocalMapper>(*map_, mapping)),
       loopCloser_(
           std::make_unique<LoopCloser>(*map_, *mapper_, loop, mapping.covisibility_min_weight)),
-      tracker_(std::make_unique<Tracker>(*map_, *mapper_, tracking))
+      tracker_(std::make_unique<Tracker>(*map_, *mapper_, trackingParams_))
 {
     mapper_->setProcessedSink([this](const std::shared_ptr<KeyFrame>& kf)
                               { loopCloser_->insertKeyFrame(kf); });

@@ -35,6 +35,7 @@ core::OptionFields TrackerParameters::fields(const std::string& section)
         .add("keyframe_min_frames", keyframe_min_frames)
         .add("keyframe_ref_ratio", keyframe_ref_ratio)
         .add("revisit_radius", revisit_radius)
+        .add("revisit_max_frames", revisit_max_frames)
         .add("relocalisation_candidates", relocalisation_candidates)
         .add("reanchor_after", reanchor_after)
         .add("fallback_weight", fallback_weight)
@@ -69,6 +70,10 @@ void TrackerParameters::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
     if (revisit_radius < 0.0)
         throw core::InputError(
             mrpt::format("[tracking] revisit_radius = %g must be >= 0", revisit_radius));
+    if (revisit_max_frames < -1)
+        throw core::InputError(mrpt::format(
+            "[tracking] revisit_max_frames = %d must be >= 0, or -1 (follow loop closing)",
+            revisit_max_frames));
     requirePositive(relocalisation_candidates, s, "relocalisation_candidates");
     if (reanchor_after < 0)
         throw core::InputError(

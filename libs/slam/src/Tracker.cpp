@@ -482,32 +482,8 @@ void Tracker::updateLocalMap(const Frame& frame)
                 localKeyFrames_.push_back(n);
     if (bestKf)
         reference_ = map_.allKeyFrames().at(bestKf->id());
-    // Keyframes that saw this place earlier but share no tracked points (the camera came back
-    // after a detour): their points join the local map, so revisits match old points, fusion
-    // links old and new keyframes, and local BA pulls them together.
     if (params_.revisit_radius > 0.0)
-    {
-        const Eigen::Isometry3d T_world_cam = frame.T_cam_world.inverse();
-        const Eigen::Vector3d centre = T_world_cam.translation();
-        const Eigen::Vector3d axis = T_world_cam.linear().col(2);
-        std::vector<std::pair<double, KeyFrame*>> near;
-        for (const auto& [id, kf] : map_.keyframes())
-        {
-            if (kf->isBad() || inLocal.count(id))
-                continue;
-            const Eigen::Isometry3d T_world_kf = kf->T_cam_world().inverse();
-            const double d = (T_world_kf.translation() - centre).norm();
-            if (d < params_.revisit_radius && T_world_kf.linear().col(2).dot(axis) > 0.8)
-                near.emplace_back(d, kf.get());
-        }
-        std::sort(near.begin(), near.end(),
-                  [](const auto& a, const auto& b) { return a.first < b.first; });
-        for (size_t k = 0; k < near.size() && k < 10; ++k)
-        {
-            inLocal.insert(near[k].second->id());
-            localKeyFrames_.push_back(near[k].second);
-        }
-    }
+        joinRevisitedKeyFrames(frame, inLocal);
 
     localPoints_.clear();
     std::set<uint64_t> seen;
@@ -515,6 +491,40 @@ void Tracker::updateLocalMap(const Frame& frame)
         for (const auto& mp : kf->points)
             if (mp && !mp->isBad() && seen.insert(mp->id()).second)
                 localPoints_.push_back(mp);
+}
+
+// Keyframes that saw this place earlier but share no tracked points (the camera came back
+// after a detour): their points join the local map, so revisits match old points, fusion
+// links old and new keyframes, and local BA pulls them together.
+// Places older than revisit_max_frames are left to loop closing.
+void Tracker::joinRevisitedKeyFrames(const Frame& frame, std::set<uint64_t>& inLocal)
+{
+    const Eigen::Isometry3d T_world_cam = frame.T_cam_world.inverse();
+    const Eigen::Vector3d centre = T_world_cam.translation();
+    const Eigen::Vector3d axis = T_world_cam.linear().col(2);
+    std::vector<std::pair<double, KeyFrame*>> near;
+    for (const auto& [id, kf] : map_.keyframes())
+    {
+        if (kf->isBad() || inLocal.count(id) || tooOldForRevisit(frame, *kf))
+            continue;
+        const Eigen::Isometry3d T_world_kf = kf->T_cam_world().inverse();
+        const double d = (T_world_kf.translation() - centre).norm();
+        if (d < params_.revisit_radius && T_world_kf.linear().col(2).dot(axis) > 0.8)
+            near.emplace_back(d, kf.get());
+    }
+    std::sort(near.begin(), near.end(),
+              [](const auto& a, const auto& b) { return a.first < b.first; });
+    for (size_t k = 0; k < near.size() && k < 10; ++k)
+    {
+        inLocal.insert(near[k].second->id());
+        localKeyFrames_.push_back(near[k].second);
+    }
+}
+
+bool Tracker::tooOldForRevisit(const Frame& frame, const KeyFrame& kf) const
+{
+    return params_.revisit_max_frames > 0 &&
+           frame.id > kf.frameId() + static_cast<uint64_t>(params_.revisit_max_frames);
 }
 
 bool Tracker::trackLocalMap(Frame& frame)

@@ -34,6 +34,10 @@ struct TrackerParameters : public mrpt::config::CLoadableOptions
     /// Keyframes within this distance (m) of the camera, looking the same way, join the local
     /// map even without shared points (revisits); 0 disables.
     double revisit_radius = 0.5;
+    /// Only keyframes made at most this many frames before join as revisits; older places are
+    /// left to loop closing, which corrects the drift before joining them. 0: any age; -1:
+    /// [loop_closing] min_frame_gap when loop closing is on, else any age (RgbdSlam resolves it).
+    int revisit_max_frames = -1;
     int relocalisation_candidates = 5;  ///< keyframes tried per lost frame, by image similarity
     /// After this many lost frames in a row that relocalisation could not place, the next frame
     /// with enough depth (2 x min_inliers_after_relocalisation usable keypoints with depth)

@@ -10,6 +10,7 @@
 #include <deque>
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -139,6 +140,8 @@ private:
     bool anchorKeyFrame(Frame& frame, int min_points);
     bool trackLocalMap(Frame& frame);
     void updateLocalMap(const Frame& frame);
+    void joinRevisitedKeyFrames(const Frame& frame, std::set<uint64_t>& inLocal);
+    bool tooOldForRevisit(const Frame& frame, const KeyFrame& kf) const;
     bool needNewKeyFrame(const Frame& frame) const;
     std::shared_ptr<KeyFrame> createKeyFrame(Frame& frame);
     void followReplacedPoints(Frame& frame) const;
