@@ -527,6 +527,15 @@ TEST(SlamParameters, InvalidValuesNameTheKey)
     slam::TrackerParameters t;
     EXPECT_NE(test::inputErrorOf([&] { t.loadFromConfigFile(cfg, ""); }).find("max_depth"),
               std::string::npos);
+    mrpt::config::CConfigFileMemory revisit;
+    revisit.write("tracking", "revisit_max_frames", -2);
+    slam::TrackerParameters r;
+    EXPECT_NE(test::inputErrorOf([&] { r.loadFromConfigFile(revisit, ""); })
+                  .find("revisit_max_frames = -2"),
+              std::string::npos);
+    revisit.write("tracking", "revisit_max_frames", -1);
+    r.loadFromConfigFile(revisit, "");
+    EXPECT_EQ(r.revisit_max_frames, -1) << "-1 (follow loop closing) is valid";
     mrpt::config::CConfigFileMemory cfg2;
     cfg2.write("local_mapping", "keyframe_redundancy", 1.5);
     slam::LocalMappingParameters m;
