@@ -536,6 +536,12 @@ TEST(SlamParameters, InvalidValuesNameTheKey)
     revisit.write("tracking", "revisit_max_frames", -1);
     r.loadFromConfigFile(revisit, "");
     EXPECT_EQ(r.revisit_max_frames, -1) << "-1 (follow loop closing) is valid";
+    mrpt::config::CConfigFileMemory newPoints;
+    newPoints.write("tracking", "keyframe_new_points", -1);
+    slam::TrackerParameters n;
+    EXPECT_NE(test::inputErrorOf([&] { n.loadFromConfigFile(newPoints, ""); })
+                  .find("keyframe_new_points"),
+              std::string::npos);
     mrpt::config::CConfigFileMemory cfg2;
     cfg2.write("local_mapping", "keyframe_redundancy", 1.5);
     slam::LocalMappingParameters m;

@@ -22,6 +22,7 @@ core::OptionFields TrackerParameters::fields(const std::string& section)
     core::OptionFields f(section, "tracking");
     f.add("virtual_baseline", virtual_baseline)
         .add("close_depth", close_depth)
+        .add("keyframe_new_points", keyframe_new_points)
         .add("min_depth", min_depth)
         .add("max_depth", max_depth)
         .add("depth_edge_ratio", depth_edge_ratio)
@@ -52,6 +53,9 @@ void TrackerParameters::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
 
     requirePositive(virtual_baseline, s, "virtual_baseline");
     requirePositive(close_depth, s, "close_depth");
+    if (keyframe_new_points < 0)
+        throw core::InputError(
+            mrpt::format("[tracking] keyframe_new_points = %d must be >= 0", keyframe_new_points));
     requirePositive(min_depth, s, "min_depth");
     if (!(max_depth > min_depth))
         throw core::InputError(mrpt::format("[tracking] max_depth = %g must be > min_depth = %g",

@@ -611,7 +611,8 @@ std::shared_ptr<KeyFrame> Tracker::createKeyFrame(Frame& frame)
     // Tracked points (outliers included: bundle adjustment decides) ...
     for (size_t i = 0; i < frame.size(); ++i)
         kf->points[i] = frame.points[i];
-    // ... and new points from depth, nearest first: all close ones, at least 100.
+    // ... and new points from depth, nearest first: all close ones, at least
+    // keyframe_new_points.
     std::vector<std::pair<float, size_t>> byDepth;
     for (size_t i = 0; i < frame.size(); ++i)
         if (frame.canMap(i) && frame.features.hasDepth(i))
@@ -634,7 +635,7 @@ std::shared_ptr<KeyFrame> Tracker::createKeyFrame(Frame& frame)
             mp->updateNormalAndDepth();
         }
         n++;
-        if (z > frame.closeDepth && n > 100)
+        if (z > frame.closeDepth && n > params_.keyframe_new_points)
             break;
     }
     reference_ = kf;
