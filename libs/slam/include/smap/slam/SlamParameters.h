@@ -17,8 +17,8 @@ struct TrackerParameters : public mrpt::config::CLoadableOptions
     double close_depth = 3.0;
     /// A keyframe makes new map points from depth for every close keypoint and, nearest first,
     /// for farther ones until it has this many (ORB-SLAM: 100). Where most of the view is far
-    /// (a corridor), 100 leave the map too thin to hold when a person hides part of it.
-    int keyframe_new_points = 200;
+    /// (a corridor) more keep the map from thinning out (docs/results.md).
+    int keyframe_new_points = 100;
     double min_depth = 0.1;  ///< keypoint depths outside [min_depth, max_depth] are ignored
     double max_depth = 8.0;
     /// Depth on a discontinuity (5x5 span > ratio x z) is not trusted; <= 0 disables.
