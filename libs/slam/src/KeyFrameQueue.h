@@ -37,7 +37,6 @@ public:
     void waitUntilIdle();
     /// Stops taking keyframes and joins the thread after the keyframe being handled.
     void stop();
-    bool threaded() const { return static_cast<bool>(thread_); }
 
 private:
     void run();
