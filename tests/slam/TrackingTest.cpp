@@ -548,4 +548,10 @@ TEST(SlamParameters, InvalidValuesNameTheKey)
     EXPECT_NE(
         test::inputErrorOf([&] { m.loadFromConfigFile(cfg2, ""); }).find("keyframe_redundancy"),
         std::string::npos);
+    mrpt::config::CConfigFileMemory neighbours;
+    neighbours.write("local_mapping", "new_point_neighbours", -1);
+    slam::LocalMappingParameters nb;
+    EXPECT_NE(test::inputErrorOf([&] { nb.loadFromConfigFile(neighbours, ""); })
+                  .find("new_point_neighbours = -1"),
+              std::string::npos);
 }

@@ -310,6 +310,7 @@ core::JsonValue trackingSummary(const RunLog& log, const pipeline::SemanticMappe
     tracking.set("keyframes", static_cast<uint64_t>(slam.numKeyFrames()))
         .set("keyframes_culled", static_cast<uint64_t>(ms.keyframesCulled))
         .set("map_points", static_cast<uint64_t>(slam.numPoints()))
+        .set("points_from_neighbours", static_cast<uint64_t>(ms.pointsFromNeighbours))
         .set("local_ba_runs", static_cast<uint64_t>(ms.baRuns))
         .set("global_ba_keyframes",
              static_cast<uint64_t>(slam.globalBundleAdjustmentStats().keyframes))

@@ -13,6 +13,7 @@ KeyFrame::KeyFrame(uint64_t id, const Frame& frame)
       features(frame.features),
       grid(frame.grid),
       weights(frame.weights),
+      mappable(frame.mappable),
       points(frame.size()),
       thumbnail(frame.thumbnail),
       id_(id),

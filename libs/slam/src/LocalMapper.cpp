@@ -4,6 +4,7 @@
 #include <set>
 
 #include "KeyFrameQueue.h"
+#include "TwoViewPoint.h"
 #include "smap/core/Elapsed.h"
 #include "smap/slam/Map.h"
 #include "smap/slam/ProjectionSearch.h"
@@ -76,6 +77,7 @@ void LocalMapper::processHeld(const std::shared_ptr<KeyFrame>& kf)
         std::lock_guard<std::mutex> lock(map_.mutex());
         linkNewKeyFrame(kf);
         cullRecentPoints(*kf);
+        createPointsWithNeighbours(kf);
         fuseWithNeighbours(kf);
     }
     // Bundle adjustment is skipped while more keyframes wait: they will run it.
@@ -96,6 +98,7 @@ void LocalMapper::processHeld(const std::shared_ptr<KeyFrame>& kf)
     std::lock_guard<std::mutex> lock(statsMutex_);
     stats_.pointsCulled += pending_.pointsCulled;
     stats_.pointsFused += pending_.pointsFused;
+    stats_.pointsFromNeighbours += pending_.pointsFromNeighbours;
     stats_.keyframesCulled += pending_.keyframesCulled;
     pending_ = {};
     stats_.keyframesProcessed++;
@@ -155,6 +158,62 @@ void LocalMapper::cullRecentPoints(const KeyFrame& kf)
             it = recentPoints_.erase(it);
         else
             ++it;
+    }
+}
+
+void LocalMapper::createPointsWithNeighbours(const std::shared_ptr<KeyFrame>& kf)
+{
+    // Tracking maps a keyframe's close keypoints and only a few beyond close_depth, whose depth
+    // alone is too noisy to trust (ORB-SLAM). A far keypoint becomes a point here once a
+    // covisible keyframe sees it too, where its depth says it should be (ORB-SLAM's
+    // CreateNewMapPoints, searched by projection: the depth predicts where to look); it is
+    // placed by triangulation where the two rays see it more sharply than its depth does.
+    if (params_.new_point_neighbours <= 0)
+        return;
+    constexpr double kRadius = 3.0;
+    constexpr double kRatio = 0.8;
+    const auto neighbours = kf->bestCovisibles(params_.new_point_neighbours);
+    const Eigen::Isometry3d T_world_cam = kf->T_cam_world().inverse();
+    for (size_t i = 0; i < kf->size(); ++i)
+    {
+        const bool taken = kf->points[i] && !kf->points[i]->isBad();
+        if (taken || !kf->canMap(i) || !kf->features.hasDepth(i))
+            continue;
+        const auto& p = kf->features.undistorted[i];
+        const Eigen::Vector3d p_world =
+            T_world_cam * kf->camera.unproject(p.x, p.y, kf->features.depth[i]);
+        const int level = kf->features.keypoints[i].octave;
+        std::shared_ptr<MapPoint> mp;
+        for (KeyFrame* n : neighbours)
+        {
+            if (n->isBad())
+                continue;
+            const Eigen::Vector3d& probe = mp ? mp->position_world : p_world;
+            const int j =
+                matchFreeKeypoint(*n, probe, level, kf->features.descriptor(i), kRadius, kRatio);
+            if (j < 0)
+                continue;
+            if (!mp)
+            {
+                const Eigen::Vector3d position =
+                    twoViewPosition(*kf, i, *n, static_cast<size_t>(j), p_world);
+                if (!agreesWithKeypoint(*kf, i, position) ||
+                    !agreesWithKeypoint(*n, static_cast<size_t>(j), position))
+                    continue;
+                mp = map_.createPoint(position, kf.get());
+                mp->addObservation(kf.get(), i);
+                kf->points[i] = mp;
+                recentPoints_.push_back(mp);
+                pending_.pointsFromNeighbours++;
+            }
+            mp->addObservation(n, static_cast<size_t>(j));
+            n->points[static_cast<size_t>(j)] = mp;
+        }
+        if (mp)
+        {
+            mp->computeDistinctiveDescriptor();
+            mp->updateNormalAndDepth();
+        }
     }
 }
 

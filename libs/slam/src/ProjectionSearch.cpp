@@ -288,6 +288,62 @@ int matchProjectedPoint(const KeyFrame& kf, const Eigen::Isometry3d& T_cam_world
     return best <= kDescriptorLow ? bestIdx : -1;
 }
 
+bool agreesWithKeypoint(const KeyFrame& kf, size_t j, const Eigen::Vector3d& p_world)
+{
+    const Eigen::Vector3d pc = kf.T_cam_world() * p_world;
+    if (pc.z() <= 0.0)
+        return false;
+    const double u = kf.camera.fx * pc.x() / pc.z() + kf.camera.cx;
+    const double v = kf.camera.fy * pc.y() / pc.z() + kf.camera.cy;
+    const double ex = u - kf.features.undistorted[j].x;
+    const double ey = v - kf.features.undistorted[j].y;
+    double e2 = ex * ex + ey * ey;
+    double chi2 = kChi2Mono;
+    if (kf.features.hasDepth(j))
+    {
+        const double er = (u - kf.bf / pc.z()) - kf.features.rightU[j];
+        e2 += er * er;
+        chi2 = kChi2Stereo;
+    }
+    const auto level = static_cast<size_t>(kf.features.keypoints[j].octave);
+    return e2 * kf.features.pyramid.invSigma2[level] <= chi2;
+}
+
+int matchFreeKeypoint(const KeyFrame& kf, const Eigen::Vector3d& p_world, int level,
+                      const uint8_t* descriptor, double radius, double ratio)
+{
+    Eigen::Vector3d pc;
+    Eigen::Vector2d uv;
+    if (!projectIntoImage(kf.T_cam_world(), kf.camera, p_world, pc, uv))
+        return -1;
+    const double r = radius * kf.features.pyramid.scale[static_cast<size_t>(level)];
+    int best = std::numeric_limits<int>::max();
+    int second = std::numeric_limits<int>::max();
+    int bestIdx = -1;
+    for (size_t j : kf.grid.query(static_cast<float>(uv.x()), static_cast<float>(uv.y()),
+                                  static_cast<float>(r), level - 1, level + 1))
+    {
+        const bool taken = kf.points[j] && !kf.points[j]->isBad();
+        if (taken || !kf.canMap(j) || !kf.features.hasDepth(j) ||
+            !agreesWithKeypoint(kf, j, p_world))
+            continue;
+        const int d = features::descriptorDistance(descriptor, kf.features.descriptor(j));
+        if (d < best)
+        {
+            second = best;
+            best = d;
+            bestIdx = static_cast<int>(j);
+        }
+        else if (d < second)
+        {
+            second = d;
+        }
+    }
+    if (best > kDescriptorLow || static_cast<double>(best) >= ratio * second)
+        return -1;
+    return bestIdx;
+}
+
 int fuse(KeyFrame& kf, const std::vector<std::shared_ptr<MapPoint>>& points, double radius)
 {
     const Eigen::Isometry3d T = kf.T_cam_world();

@@ -106,6 +106,7 @@ core::OptionFields LocalMappingParameters::fields(const std::string& section)
         .add("global_ba_iterations", global_ba_iterations)
         .add("covisibility_min_weight", covisibility_min_weight)
         .add("fuse_neighbours", fuse_neighbours)
+        .add("new_point_neighbours", new_point_neighbours)
         .add("keyframe_redundancy", keyframe_redundancy);
     return f;
 }
@@ -129,6 +130,9 @@ void LocalMappingParameters::loadFromConfigFile(const mrpt::config::CConfigFileB
     if (fuse_neighbours < 0)
         throw core::InputError(
             mrpt::format("[local_mapping] fuse_neighbours = %d must be >= 0", fuse_neighbours));
+    if (new_point_neighbours < 0)
+        throw core::InputError(mrpt::format(
+            "[local_mapping] new_point_neighbours = %d must be >= 0", new_point_neighbours));
     if (!(keyframe_redundancy > 0.0 && keyframe_redundancy <= 1.0))
         throw core::InputError(mrpt::format(
             "[local_mapping] keyframe_redundancy = %g must be in (0, 1]", keyframe_redundancy));

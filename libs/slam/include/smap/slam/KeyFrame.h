@@ -30,9 +30,14 @@ public:
     features::FeatureSet features;
     features::FeatureGrid grid;
     std::vector<float> weights;
+    /// Per keypoint (empty: every usable one): shown static, may start a map point (Frame's).
+    std::vector<bool> mappable;
     /// Map point per keypoint (null where none). Indices match `features`.
     std::vector<std::shared_ptr<MapPoint>> points;
     cv::Mat thumbnail;
+
+    size_t size() const { return features.size(); }
+    bool canMap(size_t i) const { return weights[i] > 0.0F && (mappable.empty() || mappable[i]); }
 
     Eigen::Isometry3d T_cam_world() const { return T_cam_world_; }
     void setPose(const Eigen::Isometry3d& T_cam_world) { T_cam_world_ = T_cam_world; }

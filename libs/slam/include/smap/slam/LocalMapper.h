@@ -1,5 +1,6 @@
 // Local mapping: takes the keyframes tracking inserts, links their points into the map, culls
-// weak points, fuses duplicates with covisible keyframes, runs local bundle adjustment and culls
+// weak points, starts points that a covisible keyframe sees too, fuses duplicates with covisible
+// keyframes, runs local bundle adjustment and culls
 // redundant keyframes. Runs in its own thread (tracking never waits for it) or, for tests and
 // reproducible runs, synchronously.
 #pragma once
@@ -57,6 +58,7 @@ public:
         size_t keyframesCulled = 0;
         size_t pointsCulled = 0;
         size_t pointsFused = 0;
+        size_t pointsFromNeighbours = 0;
         size_t baRuns = 0;
         size_t baAborted = 0;
         double baSeconds = 0.0;
@@ -69,6 +71,7 @@ private:
     void processHeld(const std::shared_ptr<KeyFrame>& kf);
     void linkNewKeyFrame(const std::shared_ptr<KeyFrame>& kf);
     void cullRecentPoints(const KeyFrame& kf);
+    void createPointsWithNeighbours(const std::shared_ptr<KeyFrame>& kf);
     void fuseWithNeighbours(const std::shared_ptr<KeyFrame>& kf);
     void cullKeyFrames(const KeyFrame& kf);
 

@@ -41,6 +41,18 @@ int searchKeyFramePoints(Frame& frame, const KeyFrame& kf, double radius, int ma
 int matchProjectedPoint(const KeyFrame& kf, const Eigen::Isometry3d& T_cam_world,
                         const MapPoint& mp, double radius);
 
+/// True when `p_world` projects onto keypoint `j` of `kf` (in front of it) within the chi-square
+/// bound at the keypoint's level: pixel error, and virtual right column too where it has depth.
+bool agreesWithKeypoint(const KeyFrame& kf, size_t j, const Eigen::Vector3d& p_world);
+
+/// The keypoint of `kf` that a point seen elsewhere at `p_world` (pyramid `level`, `descriptor`)
+/// projects onto and that has no map point yet: usable and shown static, with depth that agrees
+/// (pixel and disparity error within the chi-square bound at its level), within `radius` px
+/// times the level's scale, at most kDescriptorLow bits and below `ratio` times the runner-up's
+/// distance. -1 when there is none.
+int matchFreeKeypoint(const KeyFrame& kf, const Eigen::Vector3d& p_world, int level,
+                      const uint8_t* descriptor, double radius, double ratio);
+
 /// Projects `points` into `kf`; a point that lands on a keypoint with a similar descriptor
 /// either becomes its observation or, when the keypoint has a point already, the two are fused
 /// (the one with fewer observations is replaced). Returns the number fused or added.
