@@ -1,10 +1,12 @@
 // Local mapping starts map points for keypoints beyond close_depth once a covisible keyframe sees
-// them where their depth says: exact two-view geometry, with decoys that must not become points
-// (a second view at the wrong depth, a different descriptor, a movable or unproven keypoint).
+// them where their depth or the two rays say: exact two-view geometry, with decoys that must not
+// become points (a second view at the wrong depth, a different descriptor, a movable or unproven
+// keypoint).
 #include <gtest/gtest.h>
 
 #include <random>
 
+#include "TestData.h"
 #include "smap/slam/KeyFrame.h"
 #include "smap/slam/LocalMapper.h"
 #include "smap/slam/Map.h"
@@ -16,17 +18,6 @@ using namespace smap;
 namespace
 {
 constexpr double kBaseline = 0.08;
-
-core::PinholeCamera camera()
-{
-    core::PinholeCamera c;
-    c.width = 640;
-    c.height = 480;
-    c.fx = c.fy = 525.0;
-    c.cx = 319.5;
-    c.cy = 239.5;
-    return c;
-}
 
 using Descriptor = std::array<uint8_t, 32>;
 
@@ -45,7 +36,7 @@ struct Sighting
 slam::Frame frameOf(const std::vector<Sighting>& sightings, const Eigen::Isometry3d& T_cam_world)
 {
     slam::Frame f;
-    f.camera = camera();
+    f.camera = test::centredCamera(640, 480, 525.0);
     f.bf = kBaseline * f.camera.fx;
     f.closeDepth = 3.0;
     f.features.pyramid = features::ScalePyramid::make(8, 1.2);
