@@ -68,6 +68,11 @@ SemanticMapper::FrameResult SemanticMapper::track(
     PreparedFrame frame, const std::function<void(const PreparedFrame&)>& inspect)
 {
     FrameResult r;
+    // S of Algorithm 1: the keypoints the motion evidence calls dynamic, taken before the
+    // semantic evidence adds the movable ones. Algorithm 1 removes movable-class objects of
+    // the keyframe's own segmentation whole; a movable keypoint of an older mask, grown and
+    // warped, would only add discs of background around the person.
+    std::vector<mapping::DynamicPoint> dynamicPoints = movingKeypoints(frame);
     const auto t0 = std::chrono::steady_clock::now();
     applySemanticEvidence(frame, r);
     r.semantic_ms = core::millisecondsSince(t0);
@@ -76,13 +81,6 @@ SemanticMapper::FrameResult SemanticMapper::track(
         inspect(frame);
     r.dynamicKeypoints = frame.dynamic.numDynamic();
     r.dynamic_ms = frame.dynamic.total_ms;
-
-    // S of Algorithm 1, kept before the features move into the tracker.
-    std::vector<mapping::DynamicPoint> dynamicPoints;
-    const auto& fs = frame.features.features;
-    for (size_t i = 0; i < frame.dynamic.keypoints.size() && i < fs.size(); ++i)
-        if (frame.dynamic.keypoints[i].dynamic)
-            dynamicPoints.push_back({fs.keypoints[i].pt.x, fs.keypoints[i].pt.y, fs.depth[i]});
 
     r.tracking = slam_->track(std::move(frame.features));
     r.tracking.timings.extraction_ms = frame.extraction_ms;
@@ -99,6 +97,16 @@ SemanticMapper::FrameResult SemanticMapper::track(
         submitKeyFrame(frame, std::move(dynamicPoints), r);
     framesTracked_++;
     return r;
+}
+
+std::vector<mapping::DynamicPoint> SemanticMapper::movingKeypoints(const PreparedFrame& frame)
+{
+    std::vector<mapping::DynamicPoint> points;
+    const auto& fs = frame.features.features;
+    for (size_t i = 0; i < frame.dynamic.keypoints.size() && i < fs.size(); ++i)
+        if (frame.dynamic.keypoints[i].dynamic)
+            points.push_back({fs.keypoints[i].pt.x, fs.keypoints[i].pt.y, fs.depth[i]});
+    return points;
 }
 
 void SemanticMapper::submitKeyFrame(PreparedFrame& frame,

@@ -119,6 +119,8 @@ private:
     void markMovable(const std::vector<bool>& movable, PreparedFrame& frame, FrameResult& r);
     /// The frame's pose predicted at constant velocity from the last tracked ones.
     std::optional<Eigen::Isometry3d> predictPose(uint64_t frameId) const;
+    /// S of Algorithm 1: the frame's keypoints that its dynamic filter calls dynamic.
+    static std::vector<mapping::DynamicPoint> movingKeypoints(const PreparedFrame& frame);
     /// Announces a queued keyframe to the mask board.
     void submitKeyFrame(PreparedFrame& frame, std::vector<mapping::DynamicPoint> dynamicPoints,
                         FrameResult& r);
