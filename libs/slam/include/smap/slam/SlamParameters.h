@@ -83,7 +83,7 @@ struct LocalMappingParameters : public mrpt::config::CLoadableOptions
     int fuse_neighbours = 10;          ///< covisible keyframes searched for duplicate points
     /// Covisible keyframes searched for a second view of a keypoint with depth but no map point
     /// (mostly beyond close_depth): one that agrees starts a point seen by both (0: none).
-    int new_point_neighbours = 0;
+    int new_point_neighbours = 10;
     double keyframe_redundancy = 0.9;  ///< cull a keyframe whose points are this redundant
 
     void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
