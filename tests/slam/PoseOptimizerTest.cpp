@@ -113,3 +113,37 @@ TEST(PoseOptimizer, ZeroWeightObservationsAreIgnored)
     slam::optimizePose(s.frame, 4, 20);
     EXPECT_LT((s.frame.T_cam_world.translation() - s.T_true.translation()).norm(), 1e-4);
 }
+
+TEST(PoseOptimizer, RecoversThePoseWhenHalfTheKeypointsHaveNoDepth)
+{
+    Scenario s;
+    build(s, 200, 0.0, 4);
+    // Every other keypoint without depth: a pixel-only (2-row) observation.
+    for (size_t i = 0; i < s.frame.size(); i += 2)
+        s.frame.features.depth[i] = -1.0F;
+    s.frame.T_cam_world = s.T_true;
+    s.frame.T_cam_world.translation() += Eigen::Vector3d(-0.08, 0.05, 0.1);
+    s.frame.T_cam_world.linear() =
+        s.frame.T_cam_world.linear() *
+        Eigen::AngleAxisd(0.06, Eigen::Vector3d(1, -1, 0.5).normalized());
+    const int inliers = slam::optimizePose(s.frame, 4, 10);
+    EXPECT_EQ(inliers, static_cast<int>(s.frame.size()));
+    EXPECT_LT((s.frame.T_cam_world.translation() - s.T_true.translation()).norm(), 1e-4);
+    EXPECT_LT(
+        Eigen::AngleAxisd(s.frame.T_cam_world.linear().transpose() * s.T_true.linear()).angle(),
+        1e-5);
+}
+
+TEST(PoseOptimizer, AMatchBehindTheCameraIsAnOutlier)
+{
+    Scenario s;
+    build(s, 100, 0.0, 5);
+    // The first match's map point moved behind the true camera.
+    const Eigen::Vector3d behind_cam(0.1, 0.1, -2.0);
+    s.frame.points[0] = s.map.createPoint(s.T_true.inverse() * behind_cam, nullptr);
+    s.frame.T_cam_world = s.T_true;
+    const int inliers = slam::optimizePose(s.frame, 4, 10);
+    EXPECT_TRUE(s.frame.outlier[0]);
+    EXPECT_EQ(inliers, static_cast<int>(s.frame.size()) - 1);
+    EXPECT_LT((s.frame.T_cam_world.translation() - s.T_true.translation()).norm(), 1e-6);
+}

@@ -6,6 +6,7 @@
 #include <optional>
 #include <unordered_set>
 
+#include "Chi2.h"
 #include "smap/features/DescriptorMatcher.h"
 #include "smap/features/RotationConsistency.h"
 #include "smap/slam/Frame.h"
@@ -16,8 +17,6 @@ namespace smap::slam
 {
 namespace
 {
-constexpr double kChi2Stereo = 7.815;
-constexpr double kChi2Mono = 5.991;
 /// Keypoints within this many pixels of a projected map point say whether a mover hides it.
 constexpr float kOccluderRadius = 12.0F;
 

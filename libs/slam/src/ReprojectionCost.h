@@ -8,13 +8,11 @@
 
 #include <Eigen/Geometry>
 
+#include "Chi2.h"
 #include "smap/core/PinholeCamera.h"
 
 namespace smap::slam
 {
-/// chi-square 95% thresholds for 2 and 3 degrees of freedom
-constexpr double kChi2Mono = 5.991;
-constexpr double kChi2Stereo = 7.815;
 
 struct Observation2D3
 {
