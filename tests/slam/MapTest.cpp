@@ -57,3 +57,14 @@ TEST(Map, CovisibilityCountsSharedPointsAndCullingFollowsTheParent)
     EXPECT_EQ(map.allKeyFrames().size(), 2U);
     EXPECT_EQ(map.points().size(), 0U) << "every point lost its second observation";
 }
+
+// The tracker numbers its local-map searches from 1 and takes a point seen by several local
+// keyframes once per search.
+TEST(Map, APointIsMarkedOncePerLocalMapSearch)
+{
+    slam::MapPoint point(7, Eigen::Vector3d(0.0, 0.0, 1.0), nullptr);
+    EXPECT_TRUE(point.markForSearch(1));
+    EXPECT_FALSE(point.markForSearch(1));
+    EXPECT_TRUE(point.markForSearch(2));
+    EXPECT_FALSE(point.markForSearch(2));
+}

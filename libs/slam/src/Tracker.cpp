@@ -457,7 +457,10 @@ void Tracker::updateLocalMap(const Frame& frame)
         }
     }
     if (counts.empty())
+    {
+        collectLocalPoints(frame);
         return;
+    }
     localKeyFrames_.clear();
     std::set<uint64_t> inLocal;
     int best = -1;
@@ -485,11 +488,22 @@ void Tracker::updateLocalMap(const Frame& frame)
     if (params_.revisit_radius > 0.0)
         joinRevisitedKeyFrames(frame, inLocal);
 
+    collectLocalPoints(frame);
+}
+
+// The points of the local keyframes, each once, in keyframe order, less those the frame
+// already tracks. A mark per search instead of a set: this runs on every frame over all the
+// local keyframes' points.
+void Tracker::collectLocalPoints(const Frame& frame)
+{
+    const uint64_t search = ++localSearch_;
+    for (size_t i = 0; i < frame.size(); ++i)
+        if (frame.points[i] && !frame.outlier[i])
+            frame.points[i]->markForSearch(search);
     localPoints_.clear();
-    std::set<uint64_t> seen;
     for (KeyFrame* kf : localKeyFrames_)
         for (const auto& mp : kf->points)
-            if (mp && !mp->isBad() && seen.insert(mp->id()).second)
+            if (mp && !mp->isBad() && mp->markForSearch(search))
                 localPoints_.push_back(mp);
 }
 
@@ -530,24 +544,14 @@ bool Tracker::tooOldForRevisit(const Frame& frame, const KeyFrame& kf) const
 bool Tracker::trackLocalMap(Frame& frame)
 {
     updateLocalMap(frame);
-    std::set<const MapPoint*> matched;
     for (size_t i = 0; i < frame.size(); ++i)
-    {
         if (frame.points[i] && !frame.outlier[i])
-        {
             frame.points[i]->increaseVisible();
-            matched.insert(frame.points[i].get());
-        }
-    }
-    std::vector<std::shared_ptr<MapPoint>> candidates;
-    for (const auto& mp : localPoints_)
-        if (!matched.count(mp.get()))
-            candidates.push_back(mp);
     const double radius =
         frame.id < lastRelocalisationFrameId_ + 2 && lastRelocalisationFrameId_ > 0
             ? 5.0
             : params_.local_search_radius;
-    searchLocalPoints(frame, candidates, radius);
+    searchLocalPoints(frame, localPoints_, radius);
     optimise(frame);
     int inliers = 0;
     for (size_t i = 0; i < frame.size(); ++i)

@@ -60,6 +60,17 @@ public:
     void increaseFound(int n = 1) { found_ += n; }
     double foundRatio() const { return static_cast<double>(found_) / visible_; }
 
+    /// The tracker's mark for one local-map search (numbered from 1; tracking thread only):
+    /// true the first time it is called with `search`, false after, so a point seen by many
+    /// local keyframes is taken once.
+    bool markForSearch(uint64_t search)
+    {
+        if (searchMark_ == search)
+            return false;
+        searchMark_ = search;
+        return true;
+    }
+
 private:
     uint64_t id_;
     uint64_t firstKeyFrameId_;
@@ -68,6 +79,7 @@ private:
     Eigen::Vector3d normal_ = Eigen::Vector3d::Zero();
     double minDistance_ = 0.0, maxDistance_ = 0.0;
     int visible_ = 1, found_ = 1;
+    uint64_t searchMark_ = 0;
     bool bad_ = false;
     std::shared_ptr<MapPoint> replacedBy_;
 };

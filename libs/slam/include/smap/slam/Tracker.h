@@ -140,6 +140,7 @@ private:
     bool anchorKeyFrame(Frame& frame, int min_points);
     bool trackLocalMap(Frame& frame);
     void updateLocalMap(const Frame& frame);
+    void collectLocalPoints(const Frame& frame);
     void joinRevisitedKeyFrames(const Frame& frame, std::set<uint64_t>& inLocal);
     bool tooOldForRevisit(const Frame& frame, const KeyFrame& kf) const;
     bool needNewKeyFrame(const Frame& frame) const;
@@ -173,7 +174,9 @@ private:
     uint64_t lastKeyFrameFrameId_ = 0;
     uint64_t lastRelocalisationFrameId_ = 0;
     std::vector<KeyFrame*> localKeyFrames_;
+    /// Points of the local keyframes that the frame has not matched yet (the search's candidates).
     std::vector<std::shared_ptr<MapPoint>> localPoints_;
+    uint64_t localSearch_ = 0;  ///< numbers each local-map search, for MapPoint::markForSearch
     std::vector<FrameRecord> records_;
     TrackingTimings timings_;
 };
