@@ -6,8 +6,13 @@ never stops). semantic-mapper runs on it and on one pass, each under /usr/bin/ti
 script prints what issue 36 asks of a long recording:
 
   keyframes               live keyframes at the end (metrics.json), and the ratio to one pass
-  tracking cost           median tracking ms per frame (frames.csv tracking_ms) over frames
-                          1000-1999 and over the last 1000, and their ratio
+  tracking cost           median tracking ms per frame over frames 1000-1999 and over the
+                          last 1000, and their ratio: wall time (frames.csv tracking_ms),
+                          the tracking thread's CPU time (tracking_cpu_ms: the work itself,
+                          without the time another thread held the core) and the wait for the
+                          map mutex (map_wait_ms); the wall time of a two-core machine also
+                          holds the time local mapping, loop closing and segmentation took the
+                          core from tracking
   peak memory             maximum resident set size
   ATE                     RMSE against each reference of the folder (groundtruth_sfm.txt first)
   loop closures           metrics.json's loop.closures (0 when the build has none)
@@ -52,17 +57,34 @@ def run(build, data, config, out, extra):
     return int(peak.group(1)) / 1024.0 if peak else float("nan")
 
 
-def frame_costs(out):
-    """Tracking ms per frame (frames.csv tracking_ms: matching to the map and pose
-    optimisation, what grows with the map), in frame order."""
+def frame_costs(out, column="tracking_ms"):
+    """Per-frame values of a frames.csv timing column, in frame order (tracking_ms: matching
+    to the map and pose optimisation, what grows with the map). Empty when the column is
+    missing (an older build)."""
     with open(os.path.join(out, "frames.csv")) as f:
         header = f.readline().strip().split(",")
         col = {name: k for k, name in enumerate(header)}
+        if column not in col:
+            return []
         costs = []
         for line in f:
             r = line.rstrip("\n").split(",")
-            costs.append(float(r[col["tracking_ms"]] or 0))
+            costs.append(float(r[col[column]] or 0))
     return costs
+
+
+def print_cost_ratio(out):
+    """Medians of the timing columns over frames 1000-1999 and the last 1000, and ratios."""
+    for column, what in (("tracking_ms", "tracking ms per frame (median, wall)"),
+                         ("tracking_cpu_ms", "tracking CPU ms per frame (median)"),
+                         ("map_wait_ms", "map mutex wait ms per frame (mean)")):
+        costs = frame_costs(out, column)
+        if len(costs) < 3000:
+            continue
+        pick = statistics.mean if column == "map_wait_ms" else statistics.median
+        a, b = pick(costs[1000:2000]), pick(costs[-1000:])
+        print("  %s: frames 1000-1999 %.2f, last 1000 %.2f, ratio %.2f"
+              % (what, a, b, b / a if a > 0 else float("nan")))
 
 
 def ate(build, data, out):
@@ -90,10 +112,7 @@ def report(label, build, data, out, peak):
         print("  loop closures %d, consistent revisits %d, correction ms median %.1f max %.1f"
               % (loop.get("closures", 0), loop.get("consistent_revisits", 0),
                  loop.get("correction_median_ms", 0.0), loop.get("correction_max_ms", 0.0)))
-    if len(costs) >= 3000:
-        a, b = statistics.median(costs[1000:2000]), statistics.median(costs[-1000:])
-        print("  tracking ms per frame (median): frames 1000-1999 %.2f, last 1000 %.2f, ratio %.2f"
-              % (a, b, b / a))
+    print_cost_ratio(out)
     return tracking["keyframes"]
 
 

@@ -1,6 +1,10 @@
-// RunLog's end-of-run diagnosis: silent when most frames are tracked, and otherwise naming the
-// likeliest cause read from the frames' own statistics.
+// RunLog: the end-of-run diagnosis (silent when most frames are tracked, otherwise naming the
+// likeliest cause read from the frames' own statistics) and frames.csv's columns.
 #include <gtest/gtest.h>
+
+#include <algorithm>
+#include <string>
+#include <vector>
 
 #include "smap/apps/RunLog.h"
 
@@ -58,4 +62,42 @@ TEST(RunLog, DiagnosisNamesTheLikeliestCause)
 
     const std::string texture = makeLog(10, 2, 0.8, 2.0, 120.0).trackingDiagnosis(0.1, 8.0);
     EXPECT_TRUE(mentions(texture, "texture")) << texture;
+}
+
+namespace
+{
+size_t fieldCount(const std::string& line)
+{
+    return static_cast<size_t>(std::count(line.begin(), line.end(), ',')) + 1;
+}
+
+std::vector<std::string> csvLines(const std::string& csv)
+{
+    std::vector<std::string> out;
+    size_t start = 0;
+    for (size_t end = csv.find('\n'); end != std::string::npos; end = csv.find('\n', start))
+    {
+        out.push_back(csv.substr(start, end - start));
+        start = end + 1;
+    }
+    return out;
+}
+}  // namespace
+
+TEST(RunLog, SkippedFramesHaveAsManyColumnsAsTheHeader)
+{
+    apps::RunLog log = makeLog(3, 3, 0.9, 2.0, 120.0);
+    io::SkippedFrame skipped;
+    skipped.index = 3;  // after the three frames read
+    skipped.file = "rgb/1.png";
+    skipped.reason = "missing";
+    log.addSkipped(skipped);
+    const auto lines = csvLines(log.framesCsv());
+    ASSERT_EQ(lines.size(), 5u);
+    EXPECT_NE(lines[0].find(",tracking_ms,map_wait_ms,tracking_cpu_ms,"), std::string::npos)
+        << lines[0];
+    EXPECT_NE(lines[4].find(",skipped,"), std::string::npos) << lines[4];
+    EXPECT_NE(lines[4].find("rgb/1.png: missing"), std::string::npos) << lines[4];
+    for (const auto& line : lines)
+        EXPECT_EQ(fieldCount(line), fieldCount(lines[0])) << line;
 }

@@ -3,6 +3,7 @@
 #include <mrpt/core/format.h>
 
 #include <algorithm>
+#include <string_view>
 
 #include "smap/core/Median.h"
 
@@ -96,13 +97,21 @@ std::string quoted(const std::string& text)
     return q + "\"";
 }
 
+/// frames.csv's columns after the frame statistics.
+constexpr std::string_view kTrackingColumns =
+    "status,keypoints,inliers,keyframe,extraction_ms,matching_ms,optimisation_ms,tracking_ms,"
+    "map_wait_ms,tracking_cpu_ms,dynamic_keypoints,dynamic_filter_ms,keyframe_queue_wait_ms,"
+    "movable_keypoints,mask_age,mask_wait_ms,semantic_ms,fallback,note";
+
 std::string skippedCsvRow(const io::SkippedFrame& s)
 {
     pipeline::FrameStats stats;
     stats.index = s.index;
     stats.timestamp = s.timestamp;
     stats.name = s.name;
-    return pipeline::toCsvRow(stats) + ",skipped,0,0,0,0,0,0,0,0,0,0," +
+    // Every column after the status empty (nothing was measured) but the note, the last.
+    const auto after = std::count(kTrackingColumns.begin(), kTrackingColumns.end(), ',');
+    return pipeline::toCsvRow(stats) + ",skipped" + std::string(after, ',') +
            quoted(s.file + ": " + s.reason) + "\n";
 }
 }  // namespace
@@ -127,12 +136,7 @@ std::string semanticCsv(const pipeline::SemanticMapper::FrameResult& r)
 
 std::string RunLog::framesCsv() const
 {
-    std::string csv =
-        pipeline::frameStatsCsvHeader() +
-        ",status,keypoints,inliers,keyframe,extraction_ms,matching_ms,"
-        "optimisation_ms,tracking_ms,dynamic_keypoints,dynamic_filter_ms,"
-        "keyframe_queue_wait_ms,movable_keypoints,mask_age,mask_wait_ms,semantic_ms,fallback,"
-        "note\n";
+    std::string csv = pipeline::frameStatsCsvHeader() + "," + std::string(kTrackingColumns) + "\n";
     auto nextSkipped = skipped_.begin();
     for (const auto& r : rows_)
     {
@@ -142,8 +146,9 @@ std::string RunLog::framesCsv() const
         csv += pipeline::toCsvRow(r.stats) + "," + slam::toString(t.status) + "," +
                std::to_string(t.keypoints) + "," + std::to_string(t.inliers) + "," +
                (t.newKeyFrame ? "1" : "0") + "," +
-               mrpt::format("%.3f,%.3f,%.3f,%.3f", t.timings.extraction_ms, t.timings.matching_ms,
-                            t.timings.optimisation_ms, t.timings.total_ms) +
+               mrpt::format("%.3f,%.3f,%.3f,%.3f,%.3f,%.3f", t.timings.extraction_ms,
+                            t.timings.matching_ms, t.timings.optimisation_ms, t.timings.total_ms,
+                            t.timings.map_wait_ms, t.timings.cpu_ms) +
                "," + std::to_string(r.result.dynamicKeypoints) + "," +
                mrpt::format("%.3f,%.3f,", r.result.dynamic_ms, r.result.queue_wait_ms) +
                semanticCsv(r.result) + ",\n";
@@ -203,11 +208,14 @@ core::JsonValue RunLog::trackingJson() const
 
 void RunLog::addTimings(core::JsonValue& timings) const
 {
-    std::vector<double> extraction, tracking, dynamic, wait, semantic, maskWait;
+    std::vector<double> extraction, tracking, trackingCpu, mapWait, dynamic, wait, semantic,
+        maskWait;
     for (const auto& r : rows_)
     {
         extraction.push_back(r.result.tracking.timings.extraction_ms);
         tracking.push_back(r.result.tracking.timings.total_ms);
+        trackingCpu.push_back(r.result.tracking.timings.cpu_ms);
+        mapWait.push_back(r.result.tracking.timings.map_wait_ms);
         dynamic.push_back(r.result.dynamic_ms);
         wait.push_back(r.result.queue_wait_ms);
         semantic.push_back(r.result.semantic_ms);
@@ -218,6 +226,8 @@ void RunLog::addTimings(core::JsonValue& timings) const
         .set("semantic_evidence", timingJson(semantic))
         .set("mask_wait", timingJson(maskWait))
         .set("tracking", timingJson(tracking))
+        .set("tracking_cpu", timingJson(trackingCpu))
+        .set("map_wait", timingJson(mapWait))
         .set("keyframe_queue_wait", timingJson(wait));
 }
 }  // namespace smap::apps

@@ -56,6 +56,7 @@ int Tracker::optimise(Frame& frame)
 TrackingResult Tracker::track(Frame frame)
 {
     const auto t0 = Clock::now();
+    const double cpu0 = core::threadCpuMilliseconds();
     timings_ = {};
     TrackingResult result;
     result.keypoints = static_cast<int>(frame.size());
@@ -66,7 +67,9 @@ TrackingResult Tracker::track(Frame frame)
     frame.clearMatches();
     std::shared_ptr<KeyFrame> newKf;
     {
+        const auto tLock = Clock::now();
         std::lock_guard<std::mutex> lock(map_.mutex());
+        timings_.map_wait_ms = millisecondsSince(tLock);
         followLoopCorrection();
         newKf = state_ == TrackerState::NotInitialised ? startMap(frame, result)
                                                        : trackOnMap(frame, result);
@@ -79,7 +82,9 @@ TrackingResult Tracker::track(Frame frame)
         result.keyFrameId = newKf->id();
     last_ = std::move(frame);
     timings_.total_ms = millisecondsSince(t0);
-    timings_.matching_ms = std::max(0.0, timings_.total_ms - timings_.optimisation_ms);
+    timings_.cpu_ms = core::threadCpuMilliseconds() - cpu0;
+    timings_.matching_ms =
+        std::max(0.0, timings_.total_ms - timings_.optimisation_ms - timings_.map_wait_ms);
     result.timings = timings_;
     // Outside the map lock: a synchronous local mapper processes the keyframe right here
     // (its time is local mapping's, reported by LocalMapper::stats(), not tracking's).

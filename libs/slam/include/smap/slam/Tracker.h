@@ -47,9 +47,11 @@ inline bool hasPose(TrackingStatus s)
 struct TrackingTimings
 {
     double extraction_ms = 0.0;
-    double matching_ms = 0.0;
+    double matching_ms = 0.0;  ///< total_ms less optimisation_ms and map_wait_ms
     double optimisation_ms = 0.0;
-    double total_ms = 0.0;  ///< tracking alone (extraction excluded)
+    double map_wait_ms = 0.0;  ///< waiting for the map mutex (held by local mapping or loops)
+    double total_ms = 0.0;     ///< tracking alone (extraction excluded), wall time
+    double cpu_ms = 0.0;       ///< CPU time of the tracking thread over total_ms
 };
 
 struct TrackingResult
