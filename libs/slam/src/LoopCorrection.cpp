@@ -112,34 +112,90 @@ void writeBack(Map& map, const Poses& old, const Poses& corrected)
     }
 }
 
-int fuseAcrossLoop(KeyFrame& kf, KeyFrame& loop, int covisibility_min_weight)
+/// Runs one step of a fusion under `mutex` when given one (a consistent revisit: tracking then
+/// waits for one keyframe's share at most, not for the whole fusion), else as it is (the caller
+/// holds the map mutex: a correction, which the tracker must see whole).
+template <class Step>
+auto stepLocked(std::mutex* mutex, Step&& step)
 {
+    if (!mutex)
+        return step();
+    std::lock_guard<std::mutex> lock(*mutex);
+    return step();
+}
+
+/// The new keyframe's side and the loop's side, and the loop side's points, read in one step.
+struct LoopSides
+{
+    std::vector<KeyFrame*> kfSide, loopSide;
     std::vector<std::shared_ptr<MapPoint>> loopPoints;
+};
+
+LoopSides readLoopSides(KeyFrame& kf, KeyFrame& loop)
+{
+    LoopSides sides;
+    if (kf.isBad() || loop.isBad())
+        return sides;
     std::set<uint64_t> ids;
-    const auto loopSide = liveWindow(&loop, kLoopNeighbours);
-    for (KeyFrame* k : loopSide)
+    sides.loopSide = liveWindow(&loop, kLoopNeighbours);
+    for (KeyFrame* k : sides.loopSide)
         for (const auto& mp : k->points)
             if (mp && !mp->isBad() && ids.insert(mp->id()).second)
-                loopPoints.push_back(mp);
-    int fused = 0;
-    const auto kfSide = liveWindow(&kf, -1);
-    for (KeyFrame* w : kfSide)
-        fused += fuse(*w, loopPoints, kFuseRadius);
-    for (KeyFrame* w : kfSide)
+                sides.loopPoints.push_back(mp);
+    sides.kfSide = liveWindow(&kf, -1);
+    return sides;
+}
+
+void refreshPoints(const std::vector<std::shared_ptr<MapPoint>>& points)
+{
+    for (const auto& mp : points)
     {
-        for (const auto& mp : w->points)
+        if (mp && !mp->isBad())
         {
-            if (mp && !mp->isBad())
-            {
-                mp->computeDistinctiveDescriptor();
-                mp->updateNormalAndDepth();
-            }
+            mp->computeDistinctiveDescriptor();
+            mp->updateNormalAndDepth();
         }
     }
-    for (KeyFrame* w : kfSide)
-        w->updateConnections(covisibility_min_weight);
-    for (KeyFrame* w : loopSide)
-        w->updateConnections(covisibility_min_weight);
+}
+
+/// Descriptor, normal and depth range again for the points a fusion gave observations, each
+/// once (they are listed once per keyframe that took them).
+void refreshChanged(std::vector<std::shared_ptr<MapPoint>> changed)
+{
+    std::sort(changed.begin(), changed.end(),
+              [](const auto& a, const auto& b) { return a->id() < b->id(); });
+    changed.erase(std::unique(changed.begin(), changed.end()), changed.end());
+    refreshPoints(changed);
+}
+
+/// The loop side's points fused into every keyframe of the new keyframe's side, the points that
+/// gained observations refreshed and both sides' covisibility updated, each keyframe's fusion
+/// and each update a step of its own. Keyframes are never freed (Map::allKeyFrames), so the
+/// pointers stay valid between steps; one culled meanwhile is skipped.
+int fuseAcrossLoop(KeyFrame& kf, KeyFrame& loop, int covisibility_min_weight, std::mutex* stepMutex)
+{
+    const auto locked = [stepMutex](auto&& step) { return stepLocked(stepMutex, step); };
+    const LoopSides sides = locked([&] { return readLoopSides(kf, loop); });
+    int fused = 0;
+    std::vector<std::shared_ptr<MapPoint>> changed;
+    for (KeyFrame* w : sides.kfSide)
+    {
+        fused += locked(
+            [&] { return w->isBad() ? 0 : fuse(*w, sides.loopPoints, kFuseRadius, &changed); });
+    }
+    locked([&] { refreshChanged(std::move(changed)); });
+    for (const auto* side : {&sides.kfSide, &sides.loopSide})
+    {
+        for (KeyFrame* w : *side)
+        {
+            locked(
+                [&]
+                {
+                    if (!w->isBad())
+                        w->updateConnections(covisibility_min_weight);
+                });
+        }
+    }
     return fused;
 }
 }  // namespace
@@ -147,12 +203,14 @@ int fuseAcrossLoop(KeyFrame& kf, KeyFrame& loop, int covisibility_min_weight)
 int joinConsistentRevisit(Map& map, const std::shared_ptr<KeyFrame>& kf, const LoopMatch& match,
                           std::vector<PoseGraphEdge>& loopEdges, int covisibility_min_weight)
 {
-    std::lock_guard<std::mutex> lock(map.mutex());
-    if (kf->isBad() || match.loop->isBad())
-        return 0;
-    loopEdges.push_back(
-        {match.loop->id(), kf->id(), match.loop->T_cam_world() * match.T_cam_world.inverse(), 1.0});
-    return fuseAcrossLoop(*kf, *match.loop, covisibility_min_weight);
+    {
+        std::lock_guard<std::mutex> lock(map.mutex());
+        if (kf->isBad() || match.loop->isBad())
+            return 0;
+        loopEdges.push_back({match.loop->id(), kf->id(),
+                             match.loop->T_cam_world() * match.T_cam_world.inverse(), 1.0});
+    }
+    return fuseAcrossLoop(*kf, *match.loop, covisibility_min_weight, &map.mutex());
 }
 
 LoopCorrectionOutcome correctLoop(Map& map, const std::shared_ptr<KeyFrame>& kf,
@@ -177,7 +235,10 @@ LoopCorrectionOutcome correctLoop(Map& map, const std::shared_ptr<KeyFrame>& kf,
     const Eigen::Isometry3d moved = before.inverse() * kf->T_cam_world();
     out.moved_m = (kf->centre_world() - before.inverse().translation()).norm();
     out.turned_deg = Eigen::AngleAxisd(moved.rotation()).angle() * 180.0 / M_PI;
-    out.pointsFused = fuseAcrossLoop(*kf, *match.loop, covisibility_min_weight);
+    out.pointsFused = fuseAcrossLoop(*kf, *match.loop, covisibility_min_weight, nullptr);
+    // The points moved: every point of the new keyframe's neighbourhood is refreshed.
+    for (KeyFrame* w : liveWindow(kf.get(), -1))
+        refreshPoints(w->points);
     map.noteCorrection();
     return out;
 }

@@ -32,8 +32,9 @@ struct LoopCorrectionOutcome
 };
 
 /// A revisit that needs no correction: the loop neighbourhood's points fused into the new
-/// keyframe's neighbourhood, the edge kept for later corrections. Takes the map mutex; the
-/// caller holds local mapping still. Returns the points fused.
+/// keyframe's neighbourhood, the edge kept for later corrections. Takes the map mutex once per
+/// keyframe of the fusion, so that tracking waits for one keyframe's share at most; the caller
+/// holds local mapping still. Returns the points fused.
 int joinConsistentRevisit(Map& map, const std::shared_ptr<KeyFrame>& kf, const LoopMatch& match,
                           std::vector<PoseGraphEdge>& loopEdges, int covisibility_min_weight);
 
