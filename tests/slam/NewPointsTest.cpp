@@ -1,7 +1,7 @@
 // Local mapping starts map points for keypoints beyond close_depth once a covisible keyframe sees
 // them where their depth or the two rays say: exact two-view geometry, with decoys that must not
 // become points (a second view at the wrong depth, a different descriptor, a movable or unproven
-// keypoint). Fusion into a keyframe reports the points that gained observations.
+// keypoint).
 #include <gtest/gtest.h>
 
 #include <random>
@@ -238,44 +238,4 @@ TEST(NewPoints, MatchFreeKeypointSkipsKeypointsThatHaveAPoint)
     EXPECT_EQ(slam::matchFreeKeypoint(*s.second, truth[0], 0, d, 3.0, 0.8), static_cast<int>(i));
     s.second->points[i] = s.map.createPoint(truth[0], s.second.get());
     EXPECT_EQ(slam::matchFreeKeypoint(*s.second, truth[0], 0, d, 3.0, 0.8), -1);
-}
-
-namespace
-{
-std::shared_ptr<slam::MapPoint> pointSeenBy(slam::Map& map, slam::KeyFrame& kf, size_t keypoint,
-                                            const Eigen::Vector3d& p_world)
-{
-    auto mp = map.createPoint(p_world, &kf);
-    mp->addObservation(&kf, keypoint);
-    kf.points[keypoint] = mp;
-    mp->computeDistinctiveDescriptor();
-    mp->updateNormalAndDepth();
-    return mp;
-}
-}  // namespace
-
-TEST(NewPoints, FuseListsThePointsThatGainedObservations)
-{
-    Scene s;
-    buildScene(s);
-    const auto far = wall(6.0, 5, 8);
-    // Far point 0: a duplicate in the second keyframe, fused; far point 2: no point there yet,
-    // added; far point 3 looks different in the second view (96 bits), left alone.
-    const size_t dup = s.anchors, fresh = s.anchors + 2, other = s.anchors + 3;
-    ASSERT_EQ(s.farDecoys[3], Decoy::OtherLook);
-    const auto a0 = pointSeenBy(s.map, *s.first, dup, far[0]);
-    const auto b0 = pointSeenBy(s.map, *s.second, dup, far[0]);
-    const auto a2 = pointSeenBy(s.map, *s.first, fresh, far[2]);
-    const auto a3 = pointSeenBy(s.map, *s.first, other, far[3]);
-    std::vector<std::shared_ptr<slam::MapPoint>> changed;
-    EXPECT_EQ(slam::fuse(*s.second, {a0, a2, a3}, 3.0, &changed), 2);
-    ASSERT_EQ(changed.size(), 2u);
-    // Equal observation counts: the second keyframe's own point is kept and takes the first's.
-    EXPECT_EQ(changed[0], b0);
-    EXPECT_TRUE(a0->isBad());
-    EXPECT_TRUE(b0->isObservedBy(s.first.get()));
-    EXPECT_EQ(changed[1], a2);
-    EXPECT_TRUE(a2->isObservedBy(s.second.get()));
-    EXPECT_FALSE(a3->isObservedBy(s.second.get()));
-    EXPECT_FALSE(s.second->points[other]);
 }

@@ -1,10 +1,12 @@
 #include "smap/slam/LoopCorrection.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <map>
 #include <mutex>
 #include <set>
+#include <thread>
 
 #include "smap/slam/Map.h"
 #include "smap/slam/ProjectionSearch.h"
@@ -112,15 +114,19 @@ void writeBack(Map& map, const Poses& old, const Poses& corrected)
     }
 }
 
-/// Runs one step of a fusion under `mutex` when given one (a consistent revisit: tracking then
-/// waits for one keyframe's share at most, not for the whole fusion), else as it is (the caller
-/// holds the map mutex: a correction, which the tracker must see whole).
+/// Runs one step of a fusion under the map mutex when given the map (a consistent revisit:
+/// tracking then waits for one keyframe's share at most, not for the whole fusion; a waiting
+/// tracker goes first), else as it is (the caller holds the map mutex: a correction, which the
+/// tracker must see whole).
 template <class Step>
-auto stepLocked(std::mutex* mutex, Step&& step)
+auto stepLocked(Map* map, Step&& step)
 {
-    if (!mutex)
+    if (!map)
         return step();
-    std::lock_guard<std::mutex> lock(*mutex);
+    constexpr auto kPause = std::chrono::microseconds(100);
+    while (map->trackingWaits())
+        std::this_thread::sleep_for(kPause);
+    std::lock_guard<std::mutex> lock(map->mutex());
     return step();
 }
 
@@ -146,11 +152,13 @@ LoopSides readLoopSides(KeyFrame& kf, KeyFrame& loop)
     return sides;
 }
 
-void refreshPoints(const std::vector<std::shared_ptr<MapPoint>>& points)
+/// The points of `w` not refreshed yet in this fusion (`done`), refreshed: each point once,
+/// though it is seen by many of the keyframes (the same result as refreshing it for each).
+void refreshPointsOnce(const KeyFrame& w, std::set<uint64_t>& done)
 {
-    for (const auto& mp : points)
+    for (const auto& mp : w.points)
     {
-        if (mp && !mp->isBad())
+        if (mp && !mp->isBad() && done.insert(mp->id()).second)
         {
             mp->computeDistinctiveDescriptor();
             mp->updateNormalAndDepth();
@@ -158,32 +166,27 @@ void refreshPoints(const std::vector<std::shared_ptr<MapPoint>>& points)
     }
 }
 
-/// Descriptor, normal and depth range again for the points a fusion gave observations, each
-/// once (they are listed once per keyframe that took them).
-void refreshChanged(std::vector<std::shared_ptr<MapPoint>> changed)
+/// The loop side's points fused into every keyframe of the new keyframe's side, that side's
+/// points refreshed and both sides' covisibility updated, each keyframe's share a step of its
+/// own. Keyframes are never freed (Map::allKeyFrames), so the pointers stay valid between
+/// steps; one culled meanwhile is skipped.
+int fuseAcrossLoop(KeyFrame& kf, KeyFrame& loop, int covisibility_min_weight, Map* stepMap)
 {
-    std::sort(changed.begin(), changed.end(),
-              [](const auto& a, const auto& b) { return a->id() < b->id(); });
-    changed.erase(std::unique(changed.begin(), changed.end()), changed.end());
-    refreshPoints(changed);
-}
-
-/// The loop side's points fused into every keyframe of the new keyframe's side, the points that
-/// gained observations refreshed and both sides' covisibility updated, each keyframe's fusion
-/// and each update a step of its own. Keyframes are never freed (Map::allKeyFrames), so the
-/// pointers stay valid between steps; one culled meanwhile is skipped.
-int fuseAcrossLoop(KeyFrame& kf, KeyFrame& loop, int covisibility_min_weight, std::mutex* stepMutex)
-{
-    const auto locked = [stepMutex](auto&& step) { return stepLocked(stepMutex, step); };
+    const auto locked = [stepMap](auto&& step) { return stepLocked(stepMap, step); };
     const LoopSides sides = locked([&] { return readLoopSides(kf, loop); });
     int fused = 0;
-    std::vector<std::shared_ptr<MapPoint>> changed;
+    for (KeyFrame* w : sides.kfSide)
+        fused += locked([&] { return w->isBad() ? 0 : fuse(*w, sides.loopPoints, kFuseRadius); });
+    std::set<uint64_t> refreshed;
     for (KeyFrame* w : sides.kfSide)
     {
-        fused += locked(
-            [&] { return w->isBad() ? 0 : fuse(*w, sides.loopPoints, kFuseRadius, &changed); });
+        locked(
+            [&]
+            {
+                if (!w->isBad())
+                    refreshPointsOnce(*w, refreshed);
+            });
     }
-    locked([&] { refreshChanged(std::move(changed)); });
     for (const auto* side : {&sides.kfSide, &sides.loopSide})
     {
         for (KeyFrame* w : *side)
@@ -210,7 +213,7 @@ int joinConsistentRevisit(Map& map, const std::shared_ptr<KeyFrame>& kf, const L
         loopEdges.push_back({match.loop->id(), kf->id(),
                              match.loop->T_cam_world() * match.T_cam_world.inverse(), 1.0});
     }
-    return fuseAcrossLoop(*kf, *match.loop, covisibility_min_weight, &map.mutex());
+    return fuseAcrossLoop(*kf, *match.loop, covisibility_min_weight, &map);
 }
 
 LoopCorrectionOutcome correctLoop(Map& map, const std::shared_ptr<KeyFrame>& kf,
@@ -236,9 +239,6 @@ LoopCorrectionOutcome correctLoop(Map& map, const std::shared_ptr<KeyFrame>& kf,
     out.moved_m = (kf->centre_world() - before.inverse().translation()).norm();
     out.turned_deg = Eigen::AngleAxisd(moved.rotation()).angle() * 180.0 / M_PI;
     out.pointsFused = fuseAcrossLoop(*kf, *match.loop, covisibility_min_weight, nullptr);
-    // The points moved: every point of the new keyframe's neighbourhood is refreshed.
-    for (KeyFrame* w : liveWindow(kf.get(), -1))
-        refreshPoints(w->points);
     map.noteCorrection();
     return out;
 }

@@ -68,7 +68,9 @@ TrackingResult Tracker::track(Frame frame)
     std::shared_ptr<KeyFrame> newKf;
     {
         const auto tLock = Clock::now();
+        map_.beginTrackingWait();
         std::lock_guard<std::mutex> lock(map_.mutex());
+        map_.endTrackingWait();
         timings_.map_wait_ms = millisecondsSince(tLock);
         followLoopCorrection();
         newKf = state_ == TrackerState::NotInitialised ? startMap(frame, result)

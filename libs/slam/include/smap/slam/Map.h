@@ -3,6 +3,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <atomic>
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -19,6 +20,15 @@ public:
     /// Held by tracking while it reads the map and by local mapping while it changes it;
     /// bundle adjustment solves without it.
     std::mutex& mutex() { return mutex_; }
+
+    /// Tracking's place in front of background work done in short steps: a std::mutex is not
+    /// fair, and a thread that unlocks and locks again at once (a revisit's fusion, one
+    /// keyframe a step) would keep tracking waiting for all its steps. Tracking counts itself
+    /// in while it waits for mutex(); such work waits for trackingWaits() to be false before
+    /// each step.
+    void beginTrackingWait() { trackingWaiting_.fetch_add(1); }
+    void endTrackingWait() { trackingWaiting_.fetch_sub(1); }
+    bool trackingWaits() const { return trackingWaiting_.load() > 0; }
 
     std::shared_ptr<KeyFrame> createKeyFrame(const Frame& frame);
     std::shared_ptr<MapPoint> createPoint(const Eigen::Vector3d& position_world,
@@ -42,6 +52,7 @@ public:
 
 private:
     std::mutex mutex_;
+    std::atomic<int> trackingWaiting_{0};
     uint64_t nextKeyFrameId_ = 0;
     uint64_t nextPointId_ = 0;
     uint64_t corrections_ = 0;
