@@ -343,8 +343,7 @@ int matchFreeKeypoint(const KeyFrame& kf, const Eigen::Vector3d& p_world, int le
     return bestIdx;
 }
 
-int fuse(KeyFrame& kf, const std::vector<std::shared_ptr<MapPoint>>& points, double radius,
-         std::vector<std::shared_ptr<MapPoint>>* changed)
+int fuse(KeyFrame& kf, const std::vector<std::shared_ptr<MapPoint>>& points, double radius)
 {
     const Eigen::Isometry3d T = kf.T_cam_world();
     int n = 0;
@@ -357,26 +356,18 @@ int fuse(KeyFrame& kf, const std::vector<std::shared_ptr<MapPoint>>& points, dou
             continue;
         const auto bestIdx = static_cast<size_t>(found);
         const std::shared_ptr<MapPoint> existing = kf.points[bestIdx];
-        std::shared_ptr<MapPoint> kept = mp;
         if (existing && !existing->isBad())
         {
             if (existing->numObservations() >= mp->numObservations())
-            {
                 mp->replaceWith(existing);
-                kept = existing;
-            }
             else
-            {
                 existing->replaceWith(mp);
-            }
         }
         else
         {
             mp->addObservation(&kf, bestIdx);
             kf.points[bestIdx] = mp;
         }
-        if (changed)
-            changed->push_back(std::move(kept));
         n++;
     }
     return n;

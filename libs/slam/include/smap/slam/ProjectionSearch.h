@@ -55,8 +55,6 @@ int matchFreeKeypoint(const KeyFrame& kf, const Eigen::Vector3d& p_world, int le
 
 /// Projects `points` into `kf`; a point that lands on a keypoint with a similar descriptor
 /// either becomes its observation or, when the keypoint has a point already, the two are fused
-/// (the one with fewer observations is replaced). Returns the number fused or added; when
-/// `changed` is given, each point that gained observations (the one kept) is appended to it.
-int fuse(KeyFrame& kf, const std::vector<std::shared_ptr<MapPoint>>& points, double radius,
-         std::vector<std::shared_ptr<MapPoint>>* changed = nullptr);
+/// (the one with fewer observations is replaced). Returns the number fused or added.
+int fuse(KeyFrame& kf, const std::vector<std::shared_ptr<MapPoint>>& points, double radius);
 }  // namespace smap::slam
