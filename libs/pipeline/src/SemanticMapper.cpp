@@ -7,6 +7,12 @@
 namespace smap::pipeline
 {
 SemanticMapper::SemanticMapper(const SemanticMapperParameters& params)
+    : SemanticMapper(params, segmentation::makeSegmenter(params.segmentation))
+{
+}
+
+SemanticMapper::SemanticMapper(const SemanticMapperParameters& params,
+                               std::unique_ptr<segmentation::Segmenter> segmenter)
     : COutputLogger("semantic-mapper"),
       params_(params),
       slam_(std::make_unique<slam::RgbdSlam>(params.orb, params.tracking, params.localMapping,
@@ -18,7 +24,6 @@ SemanticMapper::SemanticMapper(const SemanticMapperParameters& params)
       profiler_(true, "semantic-mapper")
 {
     profiler_.setMinLoggingLevel(mrpt::system::LVL_ERROR);  // no statistics dump on exit
-    auto segmenter = segmentation::makeSegmenter(params_.segmentation);
     worker_ = std::make_unique<KeyFrameWorker>(
         std::move(segmenter), segmentation::loadLabelSet(params_.segmentation), params_.association,
         params_.map, static_cast<size_t>(params_.pipeline.keyframe_queue));

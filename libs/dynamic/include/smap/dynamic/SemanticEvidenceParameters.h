@@ -19,11 +19,11 @@ struct SemanticEvidenceParameters : public mrpt::config::CLoadableOptions
     bool enabled = true;
     /// Movable classes: dynamic prior (labels CSV) at least this (person 0.9).
     double movable_prior = 0.5;
-    /// A keyframe's mask is used from this many frames after the keyframe on; a frame that
-    /// comes earlier uses the mask before, and the frame at the latency waits for the
-    /// segmentation if it is late, so that runs are reproducible. 0 = each frame uses the newest
-    /// mask ready and never waits (live sensors; results then depend on timing).
-    int mask_latency = 20;
+    /// 0 (the default): each frame uses the newest mask that is ready and never waits for the
+    /// segmentation; which mask that is depends on the threads' timing. N > 0: a keyframe's
+    /// mask is used from N frames after the keyframe on, and the frame at that point waits for
+    /// a late segmentation, so that a run gives the same result every time (tests, A/B).
+    int mask_latency = 0;
     /// A mask older than this (frames) is not used.
     int max_mask_age = 60;
     /// The warped mask grows by dilation_px plus age_dilation_px per frame of its age (people

@@ -34,6 +34,10 @@ public:
     /// Builds every part (loads the segmentation model: throws core::InputError when it is
     /// missing or wrong).
     explicit SemanticMapper(const SemanticMapperParameters& params);
+    /// With a segmenter of the caller's own instead of the one [segmentation] describes (the
+    /// label set still comes from there); null: no segmentation, every pixel void.
+    SemanticMapper(const SemanticMapperParameters& params,
+                   std::unique_ptr<segmentation::Segmenter> segmenter);
     ~SemanticMapper() override;
     SemanticMapper(const SemanticMapper&) = delete;
     SemanticMapper& operator=(const SemanticMapper&) = delete;
