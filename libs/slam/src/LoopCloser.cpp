@@ -59,11 +59,7 @@ LoopClosingStats LoopCloser::stats() const
 void LoopCloser::process(const std::shared_ptr<KeyFrame>& kf)
 {
     const auto t0 = std::chrono::steady_clock::now();
-    LoopDetector::Outcome found;
-    {
-        std::lock_guard<std::mutex> lock(map_.mutex());
-        found = detector_->detect(kf, map_);
-    }
+    const LoopDetector::Outcome found = detector_->detect(kf, map_);
     for (const auto& c : found.checks)
     {
         MRPT_LOG_DEBUG_FMT(

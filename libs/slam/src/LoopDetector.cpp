@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <mutex>
 #include <set>
 
 #include "smap/features/DescriptorMatcher.h"
@@ -27,37 +28,58 @@ constexpr int kRefineIterations = 10;
 
 LoopDetector::Outcome LoopDetector::detect(const std::shared_ptr<KeyFrame>& kf, Map& map)
 {
-    for (uint64_t id : database_.ids())
-        if (map.keyframes().count(id) == 0)
-            database_.erase(id);
-    Outcome out;
-    if (kf->isBad())
-        return out;
-    const std::vector<size_t> rows = kf->keypointsWithPoints();
-    if (static_cast<int>(map.keyframes().size()) >= params_.min_keyframes)
+    std::vector<size_t> rows;
+    bool enoughKeyFrames = false;
     {
-        for (const auto& [candidate, score] : candidates(*kf, map, rows))
-        {
-            Check check;
-            check.candidateId = candidate->id();
-            check.score = score;
-            out.match = verify(*kf, *candidate, check);
-            out.checks.push_back(check);
-            if (out.match)
-            {
-                out.match->loop = candidate;
-                break;
-            }
-        }
+        std::lock_guard<std::mutex> lock(map.mutex());
+        for (uint64_t id : database_.ids())
+            if (map.keyframes().count(id) == 0)
+                database_.erase(id);
+        if (kf->isBad())
+            return {};
+        rows = kf->keypointsWithPoints();
+        enoughKeyFrames = static_cast<int>(map.keyframes().size()) >= params_.min_keyframes;
+    }
+    // The query needs no lock: the database is the detector's own, and a keyframe's
+    // descriptors never change. Tracking and local mapping go on meanwhile.
+    std::vector<KeyFrameDatabase::Score> scores;
+    if (enoughKeyFrames)
+        scores = database_.query(kf->features.descriptors, rows, kDescriptorLow, 1);
+    Outcome out;
+    if (!scores.empty())
+    {
+        std::lock_guard<std::mutex> lock(map.mutex());
+        if (!kf->isBad())
+            out = verifyCandidates(kf, map, scores);
     }
     database_.add(kf->id(), kf->features.descriptors, rows);
     return out;
 }
 
-std::vector<std::pair<std::shared_ptr<KeyFrame>, int>> LoopDetector::candidates(
-    const KeyFrame& kf, const Map& map, const std::vector<size_t>& rows) const
+LoopDetector::Outcome LoopDetector::verifyCandidates(
+    const std::shared_ptr<KeyFrame>& kf, const Map& map,
+    const std::vector<KeyFrameDatabase::Score>& scores) const
 {
-    const auto scores = database_.query(kf.features.descriptors, rows, kDescriptorLow, 1);
+    Outcome out;
+    for (const auto& [candidate, score] : candidates(*kf, map, scores))
+    {
+        Check check;
+        check.candidateId = candidate->id();
+        check.score = score;
+        out.match = verify(*kf, *candidate, check);
+        out.checks.push_back(check);
+        if (out.match)
+        {
+            out.match->loop = candidate;
+            break;
+        }
+    }
+    return out;
+}
+
+std::vector<std::pair<std::shared_ptr<KeyFrame>, int>> LoopDetector::candidates(
+    const KeyFrame& kf, const Map& map, const std::vector<KeyFrameDatabase::Score>& scores) const
+{
     // The bar: a share of the lowest score among the keyframe's strongest neighbours, the
     // places that certainly look like this one.
     double lowest = std::numeric_limits<double>::infinity();

@@ -35,13 +35,19 @@ public:
         std::optional<LoopMatch> match;
         std::vector<Check> checks;  ///< one per candidate verified
     };
-    /// Hold the map mutex. Looks `kf` up among the keyframes indexed before, verifies the best
-    /// candidates, then indexes it (bad keyframes are dropped from the index first).
+    /// Looks `kf` up among the keyframes indexed before, verifies the best candidates, then
+    /// indexes it (bad keyframes are dropped from the index first). Takes the map mutex itself,
+    /// and not for the database query (half of the work).
     Outcome detect(const std::shared_ptr<KeyFrame>& kf, Map& map);
 
 private:
+    /// With the map mutex held: the candidates among `scores`, verified best first until one
+    /// holds.
+    Outcome verifyCandidates(const std::shared_ptr<KeyFrame>& kf, const Map& map,
+                             const std::vector<KeyFrameDatabase::Score>& scores) const;
     std::vector<std::pair<std::shared_ptr<KeyFrame>, int>> candidates(
-        const KeyFrame& kf, const Map& map, const std::vector<size_t>& rows) const;
+        const KeyFrame& kf, const Map& map,
+        const std::vector<KeyFrameDatabase::Score>& scores) const;
     std::optional<LoopMatch> verify(const KeyFrame& kf, const KeyFrame& candidate,
                                     Check& check) const;
     /// The candidate's and its covisible keyframes' points that land on a keypoint of `kf`
