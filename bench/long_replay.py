@@ -57,34 +57,45 @@ def run(build, data, config, out, extra):
     return int(peak.group(1)) / 1024.0 if peak else float("nan")
 
 
-def frame_costs(out, column="tracking_ms"):
-    """Per-frame values of a frames.csv timing column, in frame order (tracking_ms: matching
-    to the map and pose optimisation, what grows with the map). Empty when the column is
-    missing (an older build)."""
+TIMING_COLUMNS = ("tracking_ms", "tracking_cpu_ms", "map_wait_ms")
+
+
+def frame_timings(out):
+    """frames.csv read once: per timing column, its values in frame order. tracking_ms is the
+    wall time of tracking (matching, pose optimisation and the wait for the map mutex),
+    tracking_cpu_ms the tracking thread's CPU time over it, map_wait_ms the wait. A column an
+    older build does not write is left out."""
     with open(os.path.join(out, "frames.csv")) as f:
         header = f.readline().strip().split(",")
         col = {name: k for k, name in enumerate(header)}
-        if column not in col:
-            return []
-        costs = []
+        timings = {c: [] for c in TIMING_COLUMNS if c in col}
+        frames = 0
         for line in f:
             r = line.rstrip("\n").split(",")
-            costs.append(float(r[col[column]] or 0))
-    return costs
+            frames += 1
+            for c, values in timings.items():
+                values.append(float(r[col[c]] or 0))
+    return frames, timings
 
 
-def print_cost_ratio(out):
-    """Medians of the timing columns over frames 1000-1999 and the last 1000, and ratios."""
+def print_cost_ratio(timings):
+    """Medians of the timing columns over frames 1000-1999 and the last 1000, their ratios,
+    and the waits for the map mutex over the whole run."""
     for column, what in (("tracking_ms", "tracking ms per frame (median, wall)"),
                          ("tracking_cpu_ms", "tracking CPU ms per frame (median)"),
                          ("map_wait_ms", "map mutex wait ms per frame (mean)")):
-        costs = frame_costs(out, column)
+        costs = timings.get(column, [])
         if len(costs) < 3000:
             continue
         pick = statistics.mean if column == "map_wait_ms" else statistics.median
         a, b = pick(costs[1000:2000]), pick(costs[-1000:])
         print("  %s: frames 1000-1999 %.2f, last 1000 %.2f, ratio %.2f"
               % (what, a, b, b / a if a > 0 else float("nan")))
+    waits = timings.get("map_wait_ms", [])
+    if waits:
+        print("  map mutex waits: %.1f s in total, %d over 20 ms, %d over 100 ms, longest %.0f ms"
+              % (sum(waits) / 1000.0, sum(w > 20 for w in waits), sum(w > 100 for w in waits),
+                 max(waits)))
 
 
 def ate(build, data, out):
@@ -102,9 +113,9 @@ def report(label, build, data, out, peak):
     metrics = json.load(open(os.path.join(out, "metrics.json")))
     tracking = metrics["tracking"]
     loop = metrics.get("loop", {})
-    costs = frame_costs(out)
+    frames, timings = frame_timings(out)
     print("%s: %d frames, %d with a pose, %d keyframes (%d culled), %d map points, peak %.0f MiB"
-          % (label, len(costs), tracking["frames_with_pose"], tracking["keyframes"],
+          % (label, frames, tracking["frames_with_pose"], tracking["keyframes"],
              tracking["keyframes_culled"], tracking["map_points"], peak))
     print("  ATE RMSE %s" % ", ".join("%.1f mm vs %s" % (1000 * r, g)
                                       for g, r in ate(build, data, out)))
@@ -112,7 +123,7 @@ def report(label, build, data, out, peak):
         print("  loop closures %d, consistent revisits %d, correction ms median %.1f max %.1f"
               % (loop.get("closures", 0), loop.get("consistent_revisits", 0),
                  loop.get("correction_median_ms", 0.0), loop.get("correction_max_ms", 0.0)))
-    print_cost_ratio(out)
+    print_cost_ratio(timings)
     return tracking["keyframes"]
 
 
