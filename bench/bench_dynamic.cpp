@@ -89,12 +89,7 @@ int run(int argc, char** argv)
         sim::SequenceGenerator gen(o);
         for (size_t i = 0; i < frames; ++i)
         {
-            const auto f = gen.frame(i);
-            core::RgbdFrame r;
-            r.colour = f.rendered.colour;
-            r.depth = f.rendered.depth;
-            r.camera = o.camera;
-            r.timestamp = f.timestamp;
+            const core::RgbdFrame r = gen.rgbdFrame(i);
             seq.push_back({r, slam.prepare(r).features});
         }
         input = "synthetic walking_xyz (in memory)";

@@ -14,17 +14,6 @@ using namespace smap;
 
 namespace
 {
-core::RgbdFrame presetFrame(sim::SequenceGenerator& gen, const sim::GeneratorOptions& o, size_t i)
-{
-    const auto f = gen.frame(i);
-    core::RgbdFrame frame;
-    frame.colour = f.rendered.colour;
-    frame.depth = f.rendered.depth;
-    frame.camera = o.camera;
-    frame.timestamp = f.timestamp;
-    return frame;
-}
-
 /// A segmenter that answers only once the test opens its gate (a segmentation far slower than
 /// tracking); every pixel is class 0 (background).
 class GatedSegmenter : public segmentation::Segmenter
@@ -78,7 +67,7 @@ TEST(SemanticMapper, EveryStageIsTimedInTheProfiler)
     constexpr size_t kFrames = 20;
     for (size_t i = 0; i < kFrames; i++)
     {
-        mapper.process(presetFrame(gen, o, i));
+        mapper.process(gen.rgbdFrame(i));
     }
     mapper.finish();
     std::map<std::string, mrpt::system::CTimeLogger::TCallStats> stats;
@@ -124,7 +113,7 @@ TEST(SemanticMapper, TrackingNeverWaitsForALateSegmentation)
     size_t tracked = 0;
     for (size_t i = 0; i < kClosed; i++)
     {
-        const auto r = mapper.process(presetFrame(gen, o, i));
+        const auto r = mapper.process(gen.rgbdFrame(i));
         EXPECT_EQ(r.mask_wait_ms, 0.0) << "frame " << i;
         EXPECT_FALSE(r.maskAge.has_value()) << "frame " << i;
         tracked += slam::hasPose(r.tracking.status) ? 1 : 0;
@@ -137,7 +126,7 @@ TEST(SemanticMapper, TrackingNeverWaitsForALateSegmentation)
     std::optional<uint64_t> age;
     for (size_t i = kClosed; i < 300 && !age; i++)
     {
-        const auto r = mapper.process(presetFrame(gen, o, i));
+        const auto r = mapper.process(gen.rgbdFrame(i));
         EXPECT_EQ(r.mask_wait_ms, 0.0) << "frame " << i;
         age = r.maskAge;
         if (!age)

@@ -173,3 +173,16 @@ TEST(SyntheticSequence, DeterministicForASeed)
     EXPECT_GT(cv::norm(fa.rendered.colour, fc.rendered.colour, cv::NORM_L1), 0.0);
     EXPECT_THROW(sim::SequenceGenerator(options("walking_nowhere")), core::InputError);
 }
+
+TEST(SyntheticSequence, RgbdFrameIsTheFrameWithTheOptionsCamera)
+{
+    sim::SequenceGenerator a(options("walking_rpy", false, 7)), b(options("walking_rpy", false, 7));
+    const auto f = a.frame(5);
+    const core::RgbdFrame r = b.rgbdFrame(5);
+    EXPECT_EQ(cv::norm(f.rendered.colour, r.colour, cv::NORM_INF), 0.0);
+    EXPECT_EQ(cv::norm(f.rendered.depth, r.depth, cv::NORM_INF), 0.0);  // the sensor's depth
+    EXPECT_GT(cv::norm(f.depthNoiseFree, r.depth, cv::NORM_L1), 0.0);
+    EXPECT_EQ(r.timestamp, f.timestamp);
+    EXPECT_EQ(r.camera.fx, b.options().camera.fx);
+    EXPECT_EQ(r.camera.width, b.options().camera.width);
+}

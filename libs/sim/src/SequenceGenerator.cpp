@@ -89,6 +89,17 @@ const SyntheticScene& SequenceGenerator::scene() const
     return *scene_;
 }
 
+core::RgbdFrame SequenceGenerator::rgbdFrame(size_t i)
+{
+    const SyntheticFrame f = frame(i);
+    core::RgbdFrame r;
+    r.colour = f.rendered.colour;
+    r.depth = f.rendered.depth;
+    r.camera = options_.camera;
+    r.timestamp = f.timestamp;
+    return r;
+}
+
 SyntheticFrame SequenceGenerator::frame(size_t i)
 {
     SyntheticFrame f;

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "smap/core/PinholeCamera.h"
+#include "smap/core/RgbdFrame.h"
 #include "smap/sim/CameraMotion.h"
 #include "smap/sim/DepthNoiseModel.h"
 #include "smap/sim/SyntheticRenderer.h"
@@ -74,6 +75,8 @@ public:
 
     /// Frame i (any order; deterministic for the options' seed).
     SyntheticFrame frame(size_t i);
+    /// Frame i as the pipeline takes it: colour, sensor depth, timestamp, the options' camera.
+    core::RgbdFrame rgbdFrame(size_t i);
     const SyntheticScene& scene() const;
     const SequencePreset& preset() const { return preset_; }
     const GeneratorOptions& options() const { return options_; }
