@@ -266,6 +266,50 @@ TEST(SemanticMapBuilder, NearAMoverOnlyWhatTwoKeyframesSawEntersTheMaps)
     }
 }
 
+TEST(SemanticMapBuilder, APersonBackAtTheSamePlaceDoesNotConfirmWhatWasMissedOfThem)
+{
+    // Keyframes 0 and 1, 20 frames apart, both see patch A right beside the pixels the dynamic
+    // mask caught: a person who walked away and came back (or turned round), with a part of
+    // them that segmentation missed (A) at the same place both times. Two keyframes spanning
+    // confirm_span would confirm it; neither saw the place clear of its own movers, so A goes.
+    // With the clear test off (confirm_clear_distance 0) A stays. B, 0.4 m from the mover, and
+    // the wall stay either way.
+    maps::BackProjector::Images withPerson = wall();
+    withPerson.dynamicMask.setTo(0);
+    withPerson.depth(cv::Rect(32, 15, 8, 20)).setTo(1.0f);  // A: x -0.09 .. 0 m
+    withPerson.depth(cv::Rect(40, 15, 6, 20)).setTo(1.0f);  // the mover beside it
+    withPerson.dynamicMask(cv::Rect(40, 15, 6, 20)).setTo(255);
+    withPerson.depth(cv::Rect(0, 45, 10, 10)).setTo(1.0f);  // B: x -0.5 .. -0.39 m
+    const auto count = [](const maps::CSemanticPointsMap& m, float xMin, float xMax)
+    {
+        size_t n = 0;
+        for (const auto& q : m.points())
+            n += q.position.z() < 1.5f && q.position.x() >= xMin && q.position.x() < xMax ? 1 : 0;
+        return n;
+    };
+    for (const double clearDistance : {0.1, 0.0})
+    {
+        mapping::MapBuilderParameters p;
+        p.prune_near_movers = 0.1;
+        p.confirm_clear_distance = clearDistance;
+        ASSERT_EQ(p.confirm_span, 15);
+        mapping::SemanticMapBuilder b(p, core::LabelSet::pascalVoc());
+        b.add(0, 0, 0.0, withPerson, camera(), mrpt::poses::CPose3D());
+        b.add(1, 20, 20 / 30.0, withPerson, camera(), mrpt::poses::CPose3D());
+        const size_t a = count(b.pointsMap(), -0.2f, 0.05f);
+        const size_t boxB = count(b.pointsMap(), -1.0f, -0.35f);
+        const size_t wallPoints = b.pointsMap().size() - a - boxB;
+        ASSERT_GT(a, 20U);
+        ASSERT_GT(boxB, 20U);
+        const size_t dropped = b.dropUnconfirmedNearMovers();
+        const bool clearTest = clearDistance > 0.0;
+        EXPECT_EQ(count(b.pointsMap(), -0.2f, 0.05f), clearTest ? 0U : a) << clearDistance;
+        EXPECT_EQ(dropped > 0U, clearTest) << dropped;
+        EXPECT_EQ(count(b.pointsMap(), -1.0f, -0.35f), boxB) << "far from the mover";
+        EXPECT_EQ(b.pointsMap().size() - count(b.pointsMap(), -1.0f, 0.05f), wallPoints);
+    }
+}
+
 TEST(SemanticMapBuilder, ALabelFileOfThirtyClassesKeepsClass25AndItsColour)
 {
     // A label file beyond PASCAL VOC's 21 classes: class 25 must reach both maps (the octomap's

@@ -32,8 +32,8 @@ void addDistinct(std::vector<uint32_t>& keyframes, uint32_t k, size_t atMost)
 }
 }  // namespace
 
-KeyFrameVoxels::KeyFrameVoxels(double edge, size_t needed, uint64_t span)
-    : edge_(edge), needed_(needed), span_(span)
+KeyFrameVoxels::KeyFrameVoxels(double edge, size_t needed, uint64_t span, bool needClear)
+    : edge_(edge), needed_(needed), span_(span), needClear_(needClear)
 {
 }
 
@@ -42,12 +42,13 @@ int64_t KeyFrameVoxels::cell(float a) const
     return static_cast<int64_t>(std::floor(a / edge_));
 }
 
-void KeyFrameVoxels::add(const Eigen::Vector3f& p, uint32_t keyframe, uint64_t frame)
+void KeyFrameVoxels::add(const Eigen::Vector3f& p, uint32_t keyframe, uint64_t frame, bool clear)
 {
     Seen& s = seen_[voxelKey(cell(p.x()), cell(p.y()), cell(p.z()))];
     addDistinct(s.keyframes, keyframe, needed_);
     s.firstFrame = std::min(s.firstFrame, frame);
     s.lastFrame = std::max(s.lastFrame, frame);
+    s.clear = s.clear || clear;
 }
 
 bool KeyFrameVoxels::confirmed(const Eigen::Vector3f& p) const
@@ -55,6 +56,7 @@ bool KeyFrameVoxels::confirmed(const Eigen::Vector3f& p) const
     static const auto kNeighbourhood = neighbourhood();
     std::vector<uint32_t> keyframes;
     uint64_t first = UINT64_MAX, last = 0;
+    bool clear = !needClear_;
     const int64_t cx = cell(p.x()), cy = cell(p.y()), cz = cell(p.z());
     for (const auto& [dx, dy, dz] : kNeighbourhood)
     {
@@ -65,7 +67,8 @@ bool KeyFrameVoxels::confirmed(const Eigen::Vector3f& p) const
             addDistinct(keyframes, k, needed_);
         first = std::min(first, it->second.firstFrame);
         last = std::max(last, it->second.lastFrame);
+        clear = clear || it->second.clear;
     }
-    return keyframes.size() >= needed_ && last >= first && last - first >= span_;
+    return clear && keyframes.size() >= needed_ && last >= first && last - first >= span_;
 }
 }  // namespace smap::mapping

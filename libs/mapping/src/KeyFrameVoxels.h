@@ -20,12 +20,14 @@ class KeyFrameVoxels
 {
 public:
     /// `edge`: the voxel size (m); `needed`: keyframes that confirm; `span`: frames they must
-    /// span at least (first to last).
-    KeyFrameVoxels(double edge, size_t needed, uint64_t span);
+    /// span at least (first to last); `needClear`: one of them must have seen the place clear.
+    KeyFrameVoxels(double edge, size_t needed, uint64_t span, bool needClear);
 
-    /// Keyframe number `keyframe`, made from frame `frame`, put a point at p.
-    void add(const Eigen::Vector3f& p, uint32_t keyframe, uint64_t frame);
-    /// At least `needed` distinct keyframes in the 27 voxels around p, spanning `span` frames.
+    /// Keyframe number `keyframe`, made from frame `frame`, put a point at p; `clear`: none of
+    /// that keyframe's own movers was near p.
+    void add(const Eigen::Vector3f& p, uint32_t keyframe, uint64_t frame, bool clear);
+    /// At least `needed` distinct keyframes in the 27 voxels around p, spanning `span` frames,
+    /// and (with `needClear`) one of the points there put by a keyframe that saw it clear.
     bool confirmed(const Eigen::Vector3f& p) const;
 
 private:
@@ -33,12 +35,14 @@ private:
     {
         std::vector<uint32_t> keyframes;  ///< distinct, at most `needed_`
         uint64_t firstFrame = UINT64_MAX, lastFrame = 0;
+        bool clear = false;  ///< some keyframe put its point here with no mover of its own near
     };
     int64_t cell(float a) const;
 
     double edge_;
     size_t needed_;
     uint64_t span_;
+    bool needClear_;
     std::unordered_map<int64_t, Seen> seen_;
 };
 }  // namespace smap::mapping

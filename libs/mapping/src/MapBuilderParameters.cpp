@@ -24,6 +24,11 @@ void MapBuilderParameters::loadFromConfigFile(const mrpt::config::CConfigFileBas
     confirm_near_movers = cfg.read_int(s, "confirm_near_movers", confirm_near_movers);
     confirm_radius = cfg.read_double(s, "confirm_radius", confirm_radius);
     confirm_span = cfg.read_int(s, "confirm_span", confirm_span);
+    confirm_clear_distance = cfg.read_double(s, "confirm_clear_distance", confirm_clear_distance);
+    if (!(confirm_clear_distance >= 0.0 && confirm_clear_distance <= 2.0))
+        throw core::InputError(
+            mrpt::format("[map] confirm_clear_distance = %g must be in [0, 2] m (0: off)",
+                         confirm_clear_distance));
     if (confirm_span < 0)
         throw core::InputError(
             mrpt::format("[map] confirm_span = %d must be >= 0 frames", confirm_span));
@@ -60,6 +65,7 @@ void MapBuilderParameters::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
     cfg.write(s, "confirm_near_movers", confirm_near_movers);
     cfg.write(s, "confirm_radius", confirm_radius);
     cfg.write(s, "confirm_span", confirm_span);
+    cfg.write(s, "confirm_clear_distance", confirm_clear_distance);
     pointsMap.saveToConfigFile(cfg, "points_map");
     octoMap.saveToConfigFile(cfg, "octomap");
 }

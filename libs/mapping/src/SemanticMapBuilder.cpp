@@ -4,10 +4,9 @@
 #include <cmath>
 #include <cstdint>
 #include <memory>
-#include <unordered_map>
-#include <unordered_set>
 
 #include "KeyFrameVoxels.h"
+#include "MoverVoxels.h"
 
 namespace smap::mapping
 {
@@ -175,28 +174,10 @@ std::vector<Eigen::Vector3f> SemanticMapBuilder::moverSamples(
 
 std::function<bool(const Eigen::Vector3f&)> SemanticMapBuilder::nearMovers() const
 {
-    // Voxels of the pruning distance holding a mover sample, and their 26 neighbours.
-    const double edge = params_.prune_near_movers;
-    const auto key = [edge](double x, double y, double z)
-    {
-        const auto q = [edge](double a) { return static_cast<int64_t>(std::floor(a / edge)); };
-        return voxelKey(q(x), q(y), q(z));
-    };
-    auto voxels = std::make_shared<std::unordered_set<int64_t>>();
+    auto voxels = std::make_shared<MoverVoxels>(params_.prune_near_movers);
     for (const auto& c : contributions_)
-    {
-        for (const auto& m : c.movers_cam)
-        {
-            double x = 0, y = 0, z = 0;
-            c.T_world_cam.composePoint(m.x(), m.y(), m.z(), x, y, z);
-            for (int dx = -1; dx <= 1; ++dx)
-                for (int dy = -1; dy <= 1; ++dy)
-                    for (int dz = -1; dz <= 1; ++dz)
-                        voxels->insert(key(x + dx * edge, y + dy * edge, z + dz * edge));
-        }
-    }
-    return [voxels, key](const Eigen::Vector3f& p)
-    { return voxels->count(key(p.x(), p.y(), p.z())) > 0; };
+        voxels->add(c);
+    return [voxels](const Eigen::Vector3f& p) { return voxels->near(p); };
 }
 
 size_t SemanticMapBuilder::pruneFreePoints()
@@ -233,15 +214,21 @@ std::function<bool(const Eigen::Vector3f&)> SemanticMapBuilder::unconfirmedFilte
         return nullptr;
     const auto near = nearMovers();
     auto voxels = std::make_shared<KeyFrameVoxels>(params_.confirm_radius, needed,
-                                                   static_cast<uint64_t>(params_.confirm_span));
+                                                   static_cast<uint64_t>(params_.confirm_span),
+                                                   params_.confirm_clear_distance > 0.0);
     std::vector<std::vector<maps::SemanticPoint>> world;
     world.reserve(contributions_.size());
     for (size_t k = 0; k < contributions_.size(); ++k)
     {
-        world.push_back(toWorld(contributions_[k]));
+        const KeyFrameContribution& c = contributions_[k];
+        MoverVoxels own(params_.confirm_clear_distance);  // this keyframe's movers alone
+        if (params_.confirm_clear_distance > 0.0)
+            own.add(c);
+        world.push_back(toWorld(c));
         for (const auto& p : world.back())
             if (near(p.position))
-                voxels->add(p.position, static_cast<uint32_t>(k), contributions_[k].frameId);
+                voxels->add(p.position, static_cast<uint32_t>(k), c.frameId,
+                            own.empty() || !own.near(p.position));
     }
     std::function<bool(const Eigen::Vector3f&)> keep = [near, voxels](const Eigen::Vector3f& p)
     { return !near(p) || voxels->confirmed(p); };

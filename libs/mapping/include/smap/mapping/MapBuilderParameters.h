@@ -43,6 +43,13 @@ struct MapBuilderParameters : public mrpt::config::CLoadableOptions
     /// Frames the confirming keyframes must span at least (first to last): a person standing
     /// or walking slowly is at the same place in keyframes made shortly after one another.
     int confirm_span = 15;
+    /// A confirmation also needs one of the confirming keyframes to have put its point there
+    /// with none of its own movers within about this distance (m; a voxel test over 27 voxels
+    /// of this edge): a person who walks the same line again, or turns round, puts a part that
+    /// segmentation missed at the same place in keyframes that all see them there; a static
+    /// surface beside their path is also seen while they are elsewhere. 0: keyframes and span
+    /// alone (A/B).
+    double confirm_clear_distance = 0.2;
 
     /// [points_map] and [octomap]: the maps' own options (voxel size, resolution, sensor model,
     /// and the depth range / stride of back-projection, which the builder applies too).
