@@ -43,6 +43,28 @@ double meanZ(const maps::CSemanticPointsMap& m)
         z += p.position.z();
     return z / static_cast<double>(pts.size());
 }
+
+/// The wall with patch A 1 m in front (x -0.09 .. 0 m), right beside pixels the dynamic mask
+/// caught (a person), and patch B 1 m in front (x -0.5 .. -0.39 m), 0.4 m away from them.
+maps::BackProjector::Images patchesBesideAMover()
+{
+    maps::BackProjector::Images im = wall();
+    im.dynamicMask.setTo(0);
+    im.depth(cv::Rect(32, 15, 8, 20)).setTo(1.0f);  // A
+    im.depth(cv::Rect(40, 15, 6, 20)).setTo(1.0f);  // the mover beside it
+    im.dynamicMask(cv::Rect(40, 15, 6, 20)).setTo(255);
+    im.depth(cv::Rect(0, 45, 10, 10)).setTo(1.0f);  // B
+    return im;
+}
+
+/// Points of m in front of the wall with x in [xMin, xMax).
+size_t pointsInFront(const maps::CSemanticPointsMap& m, float xMin, float xMax)
+{
+    size_t n = 0;
+    for (const auto& q : m.points())
+        n += q.position.z() < 1.5f && q.position.x() >= xMin && q.position.x() < xMax ? 1 : 0;
+    return n;
+}
 }  // namespace
 
 TEST(SemanticMapBuilder, ContributionIsTheStaticPixelsInTheCameraFrameThinned)
@@ -156,21 +178,10 @@ TEST(SemanticMapBuilder, PruningNearMoversDropsOnlyWhatStoodBesideAMover)
     // Keyframe 0: box A 1 m in front, right beside pixels the dynamic mask caught (a person),
     // and box B 1 m in front, 0.4 m away from them; keyframes 1-3 see the bare wall through
     // both. Only A is beside a mover: only A goes; B and the wall stay.
-    maps::BackProjector::Images first = wall();
-    first.dynamicMask.setTo(0);
-    first.depth(cv::Rect(32, 15, 8, 20)).setTo(1.0f);  // A: x -0.09 .. 0 m (within 0.1 m)
-    first.depth(cv::Rect(40, 15, 6, 20)).setTo(1.0f);  // the mover beside it
-    first.dynamicMask(cv::Rect(40, 15, 6, 20)).setTo(255);
-    first.depth(cv::Rect(0, 45, 10, 10)).setTo(1.0f);  // B: x -0.5 .. -0.39 m
+    const maps::BackProjector::Images first = patchesBesideAMover();
     maps::BackProjector::Images bare = wall();
     bare.dynamicMask.setTo(0);
-    const auto count = [](const maps::CSemanticPointsMap& m, float xMin, float xMax)
-    {
-        size_t n = 0;
-        for (const auto& p : m.points())
-            n += p.position.z() < 1.5f && p.position.x() >= xMin && p.position.x() < xMax ? 1 : 0;
-        return n;
-    };
+    const auto count = pointsInFront;
     mapping::MapBuilderParameters p;
     p.prune_near_movers = 0.1;
     mapping::SemanticMapBuilder b(p, core::LabelSet::pascalVoc());
@@ -201,12 +212,7 @@ TEST(SemanticMapBuilder, NearAMoverOnlyWhatTwoKeyframesSawEntersTheMaps)
     // that part of the view (no depth there: A was seen once, as a missed part of a walking
     // person is), or sees A again where it was: 20 frames later (a static surface beside the
     // person), or 5 frames later (less than confirm_span: a person there would not have moved).
-    maps::BackProjector::Images first = wall();
-    first.dynamicMask.setTo(0);
-    first.depth(cv::Rect(32, 15, 8, 20)).setTo(1.0f);  // A: x -0.09 .. 0 m
-    first.depth(cv::Rect(40, 15, 6, 20)).setTo(1.0f);  // the mover beside it
-    first.dynamicMask(cv::Rect(40, 15, 6, 20)).setTo(255);
-    first.depth(cv::Rect(0, 45, 10, 10)).setTo(1.0f);  // B: x -0.5 .. -0.39 m
+    const maps::BackProjector::Images first = patchesBesideAMover();
     maps::BackProjector::Images elsewhere = wall();
     elsewhere.dynamicMask.setTo(0);
     elsewhere.depth(cv::Rect(28, 10, 22, 30)).setTo(0.0f);  // A and the mover not seen
@@ -274,19 +280,8 @@ TEST(SemanticMapBuilder, APersonBackAtTheSamePlaceDoesNotConfirmWhatWasMissedOfT
     // confirm_span would confirm it; neither saw the place clear of its own movers, so A goes.
     // With the clear test off (confirm_clear_distance 0) A stays. B, 0.4 m from the mover, and
     // the wall stay either way.
-    maps::BackProjector::Images withPerson = wall();
-    withPerson.dynamicMask.setTo(0);
-    withPerson.depth(cv::Rect(32, 15, 8, 20)).setTo(1.0f);  // A: x -0.09 .. 0 m
-    withPerson.depth(cv::Rect(40, 15, 6, 20)).setTo(1.0f);  // the mover beside it
-    withPerson.dynamicMask(cv::Rect(40, 15, 6, 20)).setTo(255);
-    withPerson.depth(cv::Rect(0, 45, 10, 10)).setTo(1.0f);  // B: x -0.5 .. -0.39 m
-    const auto count = [](const maps::CSemanticPointsMap& m, float xMin, float xMax)
-    {
-        size_t n = 0;
-        for (const auto& q : m.points())
-            n += q.position.z() < 1.5f && q.position.x() >= xMin && q.position.x() < xMax ? 1 : 0;
-        return n;
-    };
+    const maps::BackProjector::Images withPerson = patchesBesideAMover();
+    const auto count = pointsInFront;
     for (const double clearDistance : {0.1, 0.0})
     {
         mapping::MapBuilderParameters p;
