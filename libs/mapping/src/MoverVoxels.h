@@ -22,7 +22,6 @@ public:
     /// Whether the world point p lies in one of those voxels (within about one to two edges of
     /// a mover sample).
     bool near(const Eigen::Vector3f& p) const;
-    bool empty() const { return voxels_.empty(); }
 
 private:
     int64_t key(double x, double y, double z) const;

@@ -227,8 +227,7 @@ std::function<bool(const Eigen::Vector3f&)> SemanticMapBuilder::unconfirmedFilte
         world.push_back(toWorld(c));
         for (const auto& p : world.back())
             if (near(p.position))
-                voxels->add(p.position, static_cast<uint32_t>(k), c.frameId,
-                            own.empty() || !own.near(p.position));
+                voxels->add(p.position, static_cast<uint32_t>(k), c.frameId, !own.near(p.position));
     }
     std::function<bool(const Eigen::Vector3f&)> keep = [near, voxels](const Eigen::Vector3f& p)
     { return !near(p) || voxels->confirmed(p); };
