@@ -65,6 +65,19 @@ size_t pointsInFront(const maps::CSemanticPointsMap& m, float xMin, float xMax)
         n += q.position.z() < 1.5f && q.position.x() >= xMin && q.position.x() < xMax ? 1 : 0;
     return n;
 }
+/// Points of m on patch A, on patch B (patchesBesideAMover) and elsewhere (the wall).
+struct PatchCounts
+{
+    size_t a = 0, b = 0, wall = 0;
+};
+PatchCounts countPatches(const maps::CSemanticPointsMap& m)
+{
+    PatchCounts n;
+    n.a = pointsInFront(m, -0.2f, 0.05f);
+    n.b = pointsInFront(m, -1.0f, -0.35f);
+    n.wall = m.size() - n.a - n.b;
+    return n;
+}
 }  // namespace
 
 TEST(SemanticMapBuilder, ContributionIsTheStaticPixelsInTheCameraFrameThinned)
@@ -98,7 +111,10 @@ TEST(SemanticMapBuilder, ContributionIsTheStaticPixelsInTheCameraFrameThinned)
 TEST(SemanticMapBuilder, ReanchorMovesTheMapOnlyBeyondTheTolerance)
 {
     mapping::MapBuilderParameters p;
-    p.confirm_near_movers = 0;  // the wall's person square: no confirmation asked here
+    // The wall's person square: no test near movers here (two walls 0.5 m apart would be
+    // one seen through the other).
+    p.confirm_near_movers = 0;
+    p.see_through_margin = 0.0;
     mapping::SemanticMapBuilder b(p, core::LabelSet::pascalVoc());
     const mrpt::poses::CPose3D T0(0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
     b.add(0, 0, 1.0, wall(), camera(), T0);
@@ -281,7 +297,6 @@ TEST(SemanticMapBuilder, APersonBackAtTheSamePlaceDoesNotConfirmWhatWasMissedOfT
     // With the clear test off (confirm_clear_distance 0) A stays. B, 0.4 m from the mover, and
     // the wall stay either way.
     const maps::BackProjector::Images withPerson = patchesBesideAMover();
-    const auto count = pointsInFront;
     for (const double clearDistance : {0.1, 0.0})
     {
         mapping::MapBuilderParameters p;
@@ -291,17 +306,73 @@ TEST(SemanticMapBuilder, APersonBackAtTheSamePlaceDoesNotConfirmWhatWasMissedOfT
         mapping::SemanticMapBuilder b(p, core::LabelSet::pascalVoc());
         b.add(0, 0, 0.0, withPerson, camera(), mrpt::poses::CPose3D());
         b.add(1, 20, 20 / 30.0, withPerson, camera(), mrpt::poses::CPose3D());
-        const size_t a = count(b.pointsMap(), -0.2f, 0.05f);
-        const size_t boxB = count(b.pointsMap(), -1.0f, -0.35f);
-        const size_t wallPoints = b.pointsMap().size() - a - boxB;
-        ASSERT_GT(a, 20U);
-        ASSERT_GT(boxB, 20U);
+        const PatchCounts before = countPatches(b.pointsMap());
+        ASSERT_GT(before.a, 20U);
+        ASSERT_GT(before.b, 20U);
         const size_t dropped = b.dropUnconfirmedNearMovers();
         const bool clearTest = clearDistance > 0.0;
-        EXPECT_EQ(count(b.pointsMap(), -0.2f, 0.05f), clearTest ? 0U : a) << clearDistance;
+        const PatchCounts after = countPatches(b.pointsMap());
+        EXPECT_EQ(after.a, clearTest ? 0U : before.a) << clearDistance;
         EXPECT_EQ(dropped > 0U, clearTest) << dropped;
-        EXPECT_EQ(count(b.pointsMap(), -1.0f, -0.35f), boxB) << "far from the mover";
-        EXPECT_EQ(b.pointsMap().size() - count(b.pointsMap(), -1.0f, 0.05f), wallPoints);
+        EXPECT_EQ(after.b, before.b) << "far from the mover";
+        EXPECT_EQ(after.wall, before.wall);
+    }
+}
+
+TEST(SemanticMapBuilder, WhatAPersonLeftGoesOnceTheNewestViewOfItsPlaceSeesThrough)
+{
+    // Keyframes 0 and 1, 20 frames apart, both see patch A right beside the pixels the dynamic
+    // mask caught (a person, A a part of them segmentation missed); with the clear test off,
+    // they confirm A. Keyframe 2, 20 frames later, either sees the bare wall 1 m behind where A
+    // was (the person left), or sees A again with the mover gone (A is static), or has no depth
+    // there. Only the first drops A, and only with see_through_margin > 0 (the default). B,
+    // which no mover was near, is seen through in the first case too, and stays: the test is
+    // near movers only.
+    const maps::BackProjector::Images withPerson = patchesBesideAMover();
+    maps::BackProjector::Images bare = wall();
+    bare.dynamicMask.setTo(0);
+    maps::BackProjector::Images again = withPerson;
+    again.depth = withPerson.depth.clone();
+    again.dynamicMask = cv::Mat(withPerson.dynamicMask.size(), CV_8UC1, cv::Scalar(0));
+    again.depth(cv::Rect(40, 15, 6, 20)).setTo(0.0f);  // A seen again, the mover gone
+    maps::BackProjector::Images unseen = bare;
+    unseen.depth = bare.depth.clone();
+    unseen.depth(cv::Rect(28, 10, 22, 30)).setTo(0.0f);  // no depth where A and the mover were
+    enum class Newest
+    {
+        Bare,
+        Again,
+        Unseen
+    };
+    ASSERT_GT(mapping::MapBuilderParameters().see_through_margin, 0.0) << "on by default";
+    for (const double margin : {mapping::MapBuilderParameters().see_through_margin, 0.0})
+    {
+        for (const Newest newest : {Newest::Bare, Newest::Again, Newest::Unseen})
+        {
+            mapping::MapBuilderParameters p;
+            p.prune_near_movers = 0.1;
+            p.confirm_clear_distance = 0.0;
+            p.see_through_margin = margin;
+            mapping::SemanticMapBuilder b(p, core::LabelSet::pascalVoc());
+            b.add(0, 0, 0.0, withPerson, camera(), mrpt::poses::CPose3D());
+            b.add(1, 20, 20 / 30.0, withPerson, camera(), mrpt::poses::CPose3D());
+            const maps::BackProjector::Images& last =
+                newest == Newest::Bare ? bare : (newest == Newest::Again ? again : unseen);
+            b.add(2, 40, 40 / 30.0, last, camera(), mrpt::poses::CPose3D());
+            const PatchCounts before = countPatches(b.pointsMap());
+            ASSERT_GT(before.a, 20U);
+            ASSERT_GT(before.b, 20U);
+            const bool gone = margin > 0.0 && newest == Newest::Bare;
+            const auto r = b.reanchor([](const mapping::KeyFrameContribution&)
+                                      { return std::optional<mrpt::poses::CPose3D>(); });
+            const PatchCounts after = countPatches(b.pointsMap());
+            EXPECT_EQ(after.a, gone ? 0U : before.a) << margin << " " << static_cast<int>(newest);
+            EXPECT_EQ(r.unconfirmed, 0U) << "two keyframes 20 frames apart confirm A";
+            EXPECT_EQ(r.seenThrough > 0U, gone) << r.seenThrough;
+            EXPECT_EQ(r.rebuilt, gone);
+            EXPECT_EQ(after.b, before.b) << "no mover near B";
+            EXPECT_EQ(after.wall, before.wall);
+        }
     }
 }
 

@@ -29,6 +29,10 @@ void MapBuilderParameters::loadFromConfigFile(const mrpt::config::CConfigFileBas
         throw core::InputError(
             mrpt::format("[map] confirm_clear_distance = %g must be in [0, 2] m (0: off)",
                          confirm_clear_distance));
+    see_through_margin = cfg.read_double(s, "see_through_margin", see_through_margin);
+    if (!(see_through_margin >= 0.0 && see_through_margin <= 2.0))
+        throw core::InputError(mrpt::format(
+            "[map] see_through_margin = %g must be in [0, 2] m (0: off)", see_through_margin));
     if (confirm_span < 0)
         throw core::InputError(
             mrpt::format("[map] confirm_span = %d must be >= 0 frames", confirm_span));
@@ -66,6 +70,7 @@ void MapBuilderParameters::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
     cfg.write(s, "confirm_radius", confirm_radius);
     cfg.write(s, "confirm_span", confirm_span);
     cfg.write(s, "confirm_clear_distance", confirm_clear_distance);
+    cfg.write(s, "see_through_margin", see_through_margin);
     pointsMap.saveToConfigFile(cfg, "points_map");
     octoMap.saveToConfigFile(cfg, "octomap");
 }

@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "KeyFrameVoxels.h"
+#include "LatestView.h"
 #include "MoverVoxels.h"
 
 namespace smap::mapping
@@ -46,6 +47,7 @@ const KeyFrameContribution& SemanticMapBuilder::add(uint64_t keyframe, uint64_t 
     c.frameId = frameId;
     c.timestamp = timestamp;
     c.T_world_cam = T_world_cam;
+    c.camera = camera;
     std::vector<maps::SemanticPoint> cam =
         projector_.project(images, camera, mrpt::poses::CPose3D());
     if (params_.contribution_voxel > 0.0)
@@ -61,6 +63,9 @@ const KeyFrameContribution& SemanticMapBuilder::add(uint64_t keyframe, uint64_t 
     c.points_cam.shrink_to_fit();
     if (params_.prune_near_movers > 0.0)
         c.movers_cam = moverSamples(images, camera);
+    if (params_.prune_near_movers > 0.0 && params_.see_through_margin > 0.0)
+        c.static_depth_cells = LatestView::staticDepthCells(
+            images, params_.pointsMap.projection.min_depth, params_.pointsMap.projection.max_depth);
     insert(c);
     contributions_.push_back(std::move(c));
     return contributions_.back();
@@ -137,7 +142,10 @@ SemanticMapBuilder::ReanchorResult SemanticMapBuilder::reanchor(
         for (size_t i = 0; i < contributions_.size(); ++i)
             contributions_[i].T_world_cam = poses[i];
     // One rebuild for both: the final poses, without the unconfirmed points near movers.
-    const auto keep = unconfirmedFilter(r.unconfirmed);
+    NearMoverDrops dropped;
+    const auto keep = nearMoverFilter(dropped);
+    r.unconfirmed = dropped.unconfirmed;
+    r.seenThrough = dropped.seenThrough;
     if (r.moved == 0 && !keep)
         return r;
     rebuild(keep);
@@ -198,43 +206,72 @@ size_t SemanticMapBuilder::pruneFreePoints()
 
 size_t SemanticMapBuilder::dropUnconfirmedNearMovers()
 {
-    size_t dropped = 0;
-    const auto keep = unconfirmedFilter(dropped);
+    NearMoverDrops dropped;
+    const auto keep = nearMoverFilter(dropped);
     if (keep)
         rebuild(keep);
-    return dropped;
+    return dropped.unconfirmed + dropped.seenThrough;
 }
 
-std::function<bool(const Eigen::Vector3f&)> SemanticMapBuilder::unconfirmedFilter(
-    size_t& dropped) const
+std::function<bool(const Eigen::Vector3f&)> SemanticMapBuilder::nearMoverFilter(
+    NearMoverDrops& dropped) const
 {
-    dropped = 0;
-    const auto needed = static_cast<size_t>(params_.confirm_near_movers);
-    if (needed < 2 || !(params_.prune_near_movers > 0.0) || contributions_.empty())
+    dropped = {};
+    const bool confirm = params_.confirm_near_movers >= 2;
+    const bool seeThrough = params_.see_through_margin > 0.0;
+    if ((!confirm && !seeThrough) || !(params_.prune_near_movers > 0.0) || contributions_.empty())
         return nullptr;
     const auto near = nearMovers();
-    auto voxels = std::make_shared<KeyFrameVoxels>(params_.confirm_radius, needed,
-                                                   static_cast<uint64_t>(params_.confirm_span),
-                                                   params_.confirm_clear_distance > 0.0);
     std::vector<std::vector<maps::SemanticPoint>> world;
     world.reserve(contributions_.size());
+    for (const auto& c : contributions_)
+        world.push_back(toWorld(c));
+    std::shared_ptr<const KeyFrameVoxels> voxels;
+    if (confirm)
+        voxels = confirmationVoxels(world, near);
+    std::shared_ptr<const LatestView> latest;
+    if (seeThrough)
+        latest = std::make_shared<LatestView>(contributions_, params_.see_through_margin);
+    const auto unconfirmed = [voxels](const Eigen::Vector3f& p)
+    { return voxels && !voxels->confirmed(p); };
+    const auto seen = [latest](const Eigen::Vector3f& p)
+    { return latest && latest->seenThrough(p); };
+    for (const auto& w : world)
+    {
+        for (const auto& p : w)
+        {
+            if (!near(p.position))
+                continue;
+            if (unconfirmed(p.position))
+                dropped.unconfirmed++;
+            else if (seen(p.position))
+                dropped.seenThrough++;
+        }
+    }
+    if (dropped.unconfirmed + dropped.seenThrough == 0)
+        return nullptr;
+    return [near, unconfirmed, seen](const Eigen::Vector3f& p)
+    { return !near(p) || (!unconfirmed(p) && !seen(p)); };
+}
+
+std::shared_ptr<const KeyFrameVoxels> SemanticMapBuilder::confirmationVoxels(
+    const std::vector<std::vector<maps::SemanticPoint>>& world,
+    const std::function<bool(const Eigen::Vector3f&)>& near) const
+{
+    auto voxels = std::make_shared<KeyFrameVoxels>(
+        params_.confirm_radius, static_cast<size_t>(params_.confirm_near_movers),
+        static_cast<uint64_t>(params_.confirm_span), params_.confirm_clear_distance > 0.0);
     for (size_t k = 0; k < contributions_.size(); ++k)
     {
         const KeyFrameContribution& c = contributions_[k];
         MoverVoxels own(params_.confirm_clear_distance);  // this keyframe's movers alone
         if (params_.confirm_clear_distance > 0.0)
             own.add(c);
-        world.push_back(toWorld(c));
-        for (const auto& p : world.back())
+        for (const auto& p : world[k])
             if (near(p.position))
                 voxels->add(p.position, static_cast<uint32_t>(k), c.frameId, !own.near(p.position));
     }
-    std::function<bool(const Eigen::Vector3f&)> keep = [near, voxels](const Eigen::Vector3f& p)
-    { return !near(p) || voxels->confirmed(p); };
-    for (const auto& w : world)
-        for (const auto& p : w)
-            dropped += keep(p.position) ? 0 : 1;
-    return dropped > 0 ? keep : nullptr;
+    return voxels;
 }
 
 size_t SemanticMapBuilder::contributionBytes() const

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "smap/core/PinholeCamera.h"
 #include "smap/maps/BackProjector.h"
 
 namespace smap::mapping
@@ -18,13 +19,18 @@ struct KeyFrameContribution
     double timestamp = 0.0;
     mrpt::poses::CPose3D T_world_cam;             ///< the pose the points were inserted at
     std::vector<maps::SemanticPoint> points_cam;  ///< camera (optical) frame
+    core::PinholeCamera camera;                   ///< the keyframe's camera
+    /// Its static depth, nearest per cell of 8 x 8 pixels where it observed most of the cell
+    /// (CV_32FC1, 0: not observed); empty unless [map] see_through_margin > 0.
+    cv::Mat static_depth_cells;
     /// Where movers were: samples of the keyframe's dynamic pixels (M) with depth, camera frame.
     std::vector<Eigen::Vector3f> movers_cam;
 
     size_t memoryBytes() const
     {
         return sizeof(*this) + points_cam.capacity() * sizeof(maps::SemanticPoint) +
-               movers_cam.capacity() * sizeof(Eigen::Vector3f);
+               movers_cam.capacity() * sizeof(Eigen::Vector3f) +
+               static_depth_cells.total() * static_depth_cells.elemSize();
     }
 };
 }  // namespace smap::mapping

@@ -50,6 +50,11 @@ struct MapBuilderParameters : public mrpt::config::CLoadableOptions
     /// surface beside their path is also seen while they are elsewhere. 0: keyframes and span
     /// alone (A/B).
     double confirm_clear_distance = 0.2;
+    /// Near movers, a point also leaves the maps when the newest keyframe that looked at its
+    /// place saw a static surface more than this (m) behind it (a keyframe that saw a static
+    /// surface in front of it is passed over): a person who stood there, or walked there and
+    /// came back, has left, whatever earlier keyframes confirmed. 0 = off.
+    double see_through_margin = 0.05;
 
     /// [points_map] and [octomap]: the maps' own options (voxel size, resolution, sensor model,
     /// and the depth range / stride of back-projection, which the builder applies too).

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <functional>
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -20,6 +21,8 @@
 
 namespace smap::mapping
 {
+class KeyFrameVoxels;
+
 class SemanticMapBuilder
 {
 public:
@@ -41,12 +44,15 @@ public:
         double maxRotationDeg = 0.0;
         bool rebuilt = false;
         size_t pruned = 0;  ///< points-map points removed by pruneFreePoints() afterwards
-        /// Contribution points left out as unconfirmed near movers.
+        /// Contribution points near movers left out: unconfirmed, or confirmed but seen
+        /// through by the newest keyframe that looked at their place (see_through_margin).
         size_t unconfirmed = 0;
+        size_t seenThrough = 0;
     };
     /// `finalPose` gives each contribution's refined pose (nullopt: keep the insertion pose).
     /// The maps are rebuilt once when some keyframe moved beyond the tolerance or some point
-    /// near movers is unconfirmed (dropUnconfirmedNearMovers, done here at the final poses).
+    /// near movers is unconfirmed or seen through (dropUnconfirmedNearMovers, done here at the
+    /// final poses).
     ReanchorResult reanchor(
         const std::function<std::optional<mrpt::poses::CPose3D>(const KeyFrameContribution&)>&
             finalPose);
@@ -56,9 +62,10 @@ public:
     /// prune_near_movers of where a keyframe's dynamic pixels were. Returns how many went.
     size_t pruneFreePoints();
 
-    /// With confirm_near_movers >= 2 and prune_near_movers > 0: rebuilds both maps from the
-    /// contributions at their current poses without the points near movers that fewer than
-    /// confirm_near_movers keyframes confirm (MapBuilderParameters). Returns how many
+    /// With prune_near_movers > 0 and confirm_near_movers >= 2 or see_through_margin > 0:
+    /// rebuilds both maps from the contributions at their current poses without the points
+    /// near movers that fewer than confirm_near_movers keyframes confirm, or that the newest
+    /// keyframe looking at their place saw through (MapBuilderParameters). Returns how many
     /// contribution points were left out; the maps stay as they are when none is.
     size_t dropUnconfirmedNearMovers();
 
@@ -75,9 +82,18 @@ private:
                 const std::function<bool(const Eigen::Vector3f&)>& keep = nullptr);
     /// Clears both maps and inserts every contribution at its pose, filtered by `keep`.
     void rebuild(const std::function<bool(const Eigen::Vector3f&)>& keep);
+    struct NearMoverDrops
+    {
+        size_t unconfirmed = 0;
+        size_t seenThrough = 0;  ///< confirmed, but seen through since
+    };
     /// The test of dropUnconfirmedNearMovers at the contributions' poses: null when off or
     /// when it would drop nothing; `dropped` says how many contribution points it drops.
-    std::function<bool(const Eigen::Vector3f&)> unconfirmedFilter(size_t& dropped) const;
+    std::function<bool(const Eigen::Vector3f&)> nearMoverFilter(NearMoverDrops& dropped) const;
+    /// Which keyframes put the points near movers (world: each contribution at its pose).
+    std::shared_ptr<const KeyFrameVoxels> confirmationVoxels(
+        const std::vector<std::vector<maps::SemanticPoint>>& world,
+        const std::function<bool(const Eigen::Vector3f&)>& near) const;
     /// c's points in the world frame, at c's pose.
     static std::vector<maps::SemanticPoint> toWorld(const KeyFrameContribution& c);
     /// Samples of the dynamic pixels with depth (every 4 px), in the camera frame.

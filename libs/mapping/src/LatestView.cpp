@@ -1,0 +1,95 @@
+#include "LatestView.h"
+
+#include <mrpt/math/CMatrixFixed.h>
+
+#include <cmath>
+
+namespace smap::mapping
+{
+cv::Mat LatestView::staticDepthCells(const maps::BackProjector::Images& images, double minDepth,
+                                     double maxDepth)
+{
+    const int cols = (images.depth.cols + kCell - 1) / kCell;
+    const int rows = (images.depth.rows + kCell - 1) / kCell;
+    cv::Mat nearest(rows, cols, CV_32FC1, cv::Scalar(0.0F));
+    cv::Mat observed(rows, cols, CV_32SC1, cv::Scalar(0));
+    const auto lo = static_cast<float>(minDepth), hi = static_cast<float>(maxDepth);
+    for (int v = 0; v < images.depth.rows; ++v)
+    {
+        const float* d = images.depth.ptr<float>(v);
+        const auto* m = images.dynamicMask.empty() ? nullptr : images.dynamicMask.ptr<uint8_t>(v);
+        auto* z = nearest.ptr<float>(v / kCell);
+        auto* n = observed.ptr<int>(v / kCell);
+        for (int u = 0; u < images.depth.cols; ++u)
+        {
+            if (!(d[u] >= lo && d[u] <= hi) || (m != nullptr && m[u] != 0))
+                continue;
+            float& cell = z[u / kCell];
+            cell = n[u / kCell]++ == 0 ? d[u] : std::min(cell, d[u]);
+        }
+    }
+    for (int r = 0; r < rows; ++r)
+    {
+        const int h = std::min(kCell, images.depth.rows - r * kCell);
+        for (int c = 0; c < cols; ++c)
+        {
+            const int w = std::min(kCell, images.depth.cols - c * kCell);
+            if (observed.at<int>(r, c) < kObserved * h * w)
+                nearest.at<float>(r, c) = 0.0F;
+        }
+    }
+    return nearest;
+}
+
+LatestView::LatestView(const std::vector<KeyFrameContribution>& contributions, double margin)
+    : margin_(static_cast<float>(margin))
+{
+    views_.reserve(contributions.size());
+    for (const auto& c : contributions)
+    {
+        if (c.static_depth_cells.empty() || !c.camera.isValid())
+            continue;
+        const Eigen::Matrix4d T_world_cam =
+            c.T_world_cam.getHomogeneousMatrixVal<mrpt::math::CMatrixDouble44>().asEigen();
+        views_.push_back({Eigen::Isometry3f(T_world_cam.inverse().cast<float>()), c.camera,
+                          c.static_depth_cells});
+    }
+}
+
+LatestView::Verdict LatestView::look(const View& view, const Eigen::Vector3f& p_world) const
+{
+    const Eigen::Vector3f q = view.T_cam_world * p_world;
+    if (!(q.z() > 0.0F))
+        return Verdict::NoView;
+    // The pixel of the images the cells came from: the camera's distortion applied.
+    const core::PinholeCamera& cam = view.camera;
+    const double x = q.x() / q.z(), y = q.y() / q.z(), r2 = x * x + y * y;
+    const auto& k = cam.distortion;
+    const double radial = 1.0 + r2 * (k[0] + r2 * (k[1] + r2 * k[4]));
+    const double xd = x * radial + 2.0 * k[2] * x * y + k[3] * (r2 + 2.0 * x * x);
+    const double yd = y * radial + k[2] * (r2 + 2.0 * y * y) + 2.0 * k[3] * x * y;
+    const auto cu = static_cast<int>(std::floor((cam.fx * xd + cam.cx + 0.5) / kCell));
+    const auto cv = static_cast<int>(std::floor((cam.fy * yd + cam.cy + 0.5) / kCell));
+    if (cu < 0 || cv < 0 || cu >= view.cells.cols || cv >= view.cells.rows)
+        return Verdict::NoView;
+    const float z = view.cells.at<float>(cv, cu);
+    if (z == 0.0F)
+        return Verdict::NoView;
+    if (z < q.z() - margin_)
+        return Verdict::Hidden;
+    return z > q.z() + margin_ ? Verdict::Through : Verdict::Seen;
+}
+
+bool LatestView::seenThrough(const Eigen::Vector3f& p_world) const
+{
+    for (auto it = views_.rbegin(); it != views_.rend(); ++it)
+    {
+        const Verdict v = look(*it, p_world);
+        if (v == Verdict::Seen)
+            return false;
+        if (v == Verdict::Through)
+            return true;
+    }
+    return false;
+}
+}  // namespace smap::mapping
