@@ -8,6 +8,7 @@
 
 #include "TestData.h"
 #include "smap/core/LabelSet.h"
+#include "smap/segmentation/CrfSegmenter.h"
 #include "smap/segmentation/LabelImageSegmenter.h"
 #include "smap/segmentation/SegmentationParameters.h"
 
@@ -62,6 +63,29 @@ TEST(LabelImageSegmenter, MatchesByNameWithConfidence)
 
     const std::string e = test::inputErrorOf([&] { seg.segment(frame("000003", 0.0)); });
     EXPECT_NE(e.find("000003"), std::string::npos) << e;
+}
+
+TEST(LabelImageSegmenter, VoidPixelsStayVoidThroughTheCrf)
+{
+    // A label image that only says where a person is (255 elsewhere, as a composite's labels
+    // do): the CRF refines what the image says and leaves the rest void. Without that, the
+    // void pixels' uniform distributions took the person's label from their neighbours, and
+    // the semantic evidence then saw people over most of the view.
+    test::TempDir dir;
+    cv::Mat l(24, 32, CV_8UC1, cv::Scalar(core::LabelSet::kVoid));
+    l(cv::Rect(12, 8, 8, 8)).setTo(15);
+    cv::imwrite(dir / "000001.png", l);
+    LabelImageParameters p;
+    p.folder = dir.str();
+    segmentation::CrfSegmenter seg(
+        std::make_unique<LabelImageSegmenter>(p, core::LabelSet::pascalVoc()),
+        segmentation::DenseCrfParameters());
+    core::RgbdFrame f = frame("000001", 0.0, 32, 24);
+    f.colour.setTo(cv::Scalar(90, 120, 150));
+    f.colour(cv::Rect(12, 8, 8, 8)).setTo(cv::Scalar(20, 40, 200));
+    const auto r = seg.segment(f);
+    EXPECT_EQ(cv::countNonZero(r.labels == 15), 64);
+    EXPECT_EQ(cv::countNonZero(r.labels == core::LabelSet::kVoid), 32 * 24 - 64);
 }
 
 TEST(LabelImageSegmenter, MatchesByNearestTimestamp)

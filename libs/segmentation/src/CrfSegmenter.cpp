@@ -5,6 +5,8 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "smap/core/LabelSet.h"
+
 namespace smap::segmentation
 {
 CrfSegmenter::CrfSegmenter(std::unique_ptr<Segmenter> inner, const DenseCrfParameters& params)
@@ -26,6 +28,9 @@ SegmentationResult CrfSegmenter::segmentNative(const core::RgbdFrame& frame)
                    colour.cols > r.width() ? cv::INTER_AREA : cv::INTER_LINEAR);
     auto refined = SegmentationResult::fromProbabilities(crf_.refine(colour, r.probabilities),
                                                          r.width(), r.height());
+    // Where the inner segmenter said nothing (void pixels of a label image, uniform
+    // distributions), the CRF would hand out its neighbours' labels: those stay void.
+    refined.labels.setTo(core::LabelSet::kVoid, r.labels == core::LabelSet::kVoid);
     MRPT_LOG_DEBUG_FMT("%s: %s %.1f ms, crf %.1f ms", frame.name.c_str(),
                        inner_->description().c_str(), innerMs, 1e3 * timer.Tac());
     return refined;
