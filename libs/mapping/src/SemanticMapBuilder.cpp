@@ -141,7 +141,8 @@ SemanticMapBuilder::ReanchorResult SemanticMapBuilder::reanchor(
     if (r.moved > 0)
         for (size_t i = 0; i < contributions_.size(); ++i)
             contributions_[i].T_world_cam = poses[i];
-    // One rebuild for both: the final poses, without the unconfirmed points near movers.
+    // One rebuild for both: the final poses, without the points near movers that are
+    // unconfirmed or seen through since.
     NearMoverDrops dropped;
     const auto keep = nearMoverFilter(dropped);
     r.unconfirmed = dropped.unconfirmed;
