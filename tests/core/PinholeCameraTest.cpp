@@ -1,6 +1,10 @@
 #include <gtest/gtest.h>
 #include <mrpt/config/CConfigFileMemory.h>
 
+#include <cmath>
+#include <opencv2/calib3d.hpp>
+#include <vector>
+
 #include "smap/core/InputError.h"
 #include "smap/core/PinholeCamera.h"
 
@@ -33,6 +37,29 @@ TEST(PinholeCamera, ProjectInvertsUnproject)
     EXPECT_NEAR(uv.y(), 400.5, 1e-10);
     // A point on the optical axis lands on the principal point.
     EXPECT_NEAR(c.project({0, 0, 3}).x(), c.cx, 1e-12);
+}
+
+TEST(PinholeCamera, DistortionMatchesTheUndistortionItInverts)
+{
+    // Undistorting a distorted point (OpenCV's plumb-bob model, iterated) gives it back; a
+    // camera without distortion leaves the point alone.
+    const PinholeCamera c = sampleCamera();
+    double x = 0.31, y = -0.22;
+    c.distortNormalised(x, y);
+    const std::vector<cv::Point2d> distorted = {{c.fx * x + c.cx, c.fy * y + c.cy}};
+    std::vector<cv::Point2d> undistorted;
+    cv::undistortPoints(
+        distorted, undistorted, c.cameraMatrix(), c.distCoeffs(), cv::noArray(), cv::noArray(),
+        cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 100, 1e-12));
+    EXPECT_NEAR(undistorted[0].x, 0.31, 1e-6);
+    EXPECT_NEAR(undistorted[0].y, -0.22, 1e-6);
+    EXPECT_GT(std::abs(x - 0.31), 1e-3) << "the sample camera does distort";
+    PinholeCamera plain = c;
+    plain.distortion = {};
+    float u = 0.31F, v = -0.22F;
+    plain.distortNormalised(u, v);
+    EXPECT_EQ(u, 0.31F);
+    EXPECT_EQ(v, -0.22F);
 }
 
 TEST(PinholeCamera, MrptRoundTrip)

@@ -61,20 +61,6 @@ DepthRegistration::DepthRegistration(const core::PinholeCamera& depthCamera,
     }
 }
 
-void DepthRegistration::distort(float& x, float& y) const
-{
-    const auto& d = colourCamera_.distortion;
-    const auto k1 = static_cast<float>(d[0]), k2 = static_cast<float>(d[1]);
-    const auto p1 = static_cast<float>(d[2]), p2 = static_cast<float>(d[3]);
-    const auto k3 = static_cast<float>(d[4]);
-    const float r2 = x * x + y * y;
-    const float radial = 1.0F + r2 * (k1 + r2 * (k2 + r2 * k3));
-    const float xd = x * radial + 2.0F * p1 * x * y + p2 * (r2 + 2.0F * x * x);
-    const float yd = y * radial + p1 * (r2 + 2.0F * y * y) + 2.0F * p2 * x * y;
-    x = xd;
-    y = yd;
-}
-
 namespace
 {
 struct RowProjection
@@ -136,7 +122,7 @@ void DepthRegistration::projectRow(const float* depth, size_t first, size_t cols
     for (size_t u = 0; u < cols; u++)  // redo with the colour camera's distortion
     {
         float x = (us[u] - cx) / fx, y = (vs[u] - cy) / fy;
-        distort(x, y);
+        colourCamera_.distortNormalised(x, y);
         us[u] = fx * x + cx;
         vs[u] = fy * y + cy;
     }

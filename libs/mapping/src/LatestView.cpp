@@ -63,13 +63,10 @@ LatestView::Verdict LatestView::look(const View& view, const Eigen::Vector3f& p_
         return Verdict::NoView;
     // The pixel of the images the cells came from: the camera's distortion applied.
     const core::PinholeCamera& cam = view.camera;
-    const double x = q.x() / q.z(), y = q.y() / q.z(), r2 = x * x + y * y;
-    const auto& k = cam.distortion;
-    const double radial = 1.0 + r2 * (k[0] + r2 * (k[1] + r2 * k[4]));
-    const double xd = x * radial + 2.0 * k[2] * x * y + k[3] * (r2 + 2.0 * x * x);
-    const double yd = y * radial + k[2] * (r2 + 2.0 * y * y) + 2.0 * k[3] * x * y;
-    const auto cu = static_cast<int>(std::floor((cam.fx * xd + cam.cx + 0.5) / kCell));
-    const auto cv = static_cast<int>(std::floor((cam.fy * yd + cam.cy + 0.5) / kCell));
+    double x = q.x() / q.z(), y = q.y() / q.z();
+    cam.distortNormalised(x, y);
+    const auto cu = static_cast<int>(std::floor((cam.fx * x + cam.cx + 0.5) / kCell));
+    const auto cv = static_cast<int>(std::floor((cam.fy * y + cam.cy + 0.5) / kCell));
     if (cu < 0 || cv < 0 || cu >= view.cells.cols || cv >= view.cells.rows)
         return Verdict::NoView;
     const float z = view.cells.at<float>(cv, cu);

@@ -87,8 +87,7 @@ std::vector<maps::SemanticPoint> SemanticMapBuilder::toWorld(const KeyFrameContr
     return world;
 }
 
-void SemanticMapBuilder::insert(const KeyFrameContribution& c,
-                                const std::function<bool(const Eigen::Vector3f&)>& keep)
+void SemanticMapBuilder::insert(const KeyFrameContribution& c, const std::vector<bool>* keep)
 {
     std::vector<maps::SemanticPoint> world = toWorld(c);
     std::vector<float> depth;  // camera-frame z of each kept point
@@ -96,7 +95,7 @@ void SemanticMapBuilder::insert(const KeyFrameContribution& c,
     size_t kept = 0;
     for (size_t i = 0; i < world.size(); ++i)
     {
-        if (keep && !keep(world[i].position))
+        if (keep && !(*keep)[i])
             continue;
         world[kept++] = world[i];
         depth.push_back(c.points_cam[i].position.z());
@@ -149,17 +148,17 @@ SemanticMapBuilder::ReanchorResult SemanticMapBuilder::reanchor(
     r.seenThrough = dropped.seenThrough;
     if (r.moved == 0 && !keep)
         return r;
-    rebuild(keep);
+    rebuild(keep ? &*keep : nullptr);
     r.rebuilt = true;
     return r;
 }
 
-void SemanticMapBuilder::rebuild(const std::function<bool(const Eigen::Vector3f&)>& keep)
+void SemanticMapBuilder::rebuild(const KeepMasks* keep)
 {
     pointsMap_.clear();
     octoMap_.clear();
-    for (const auto& c : contributions_)
-        insert(c, keep);
+    for (size_t k = 0; k < contributions_.size(); ++k)
+        insert(contributions_[k], keep ? &(*keep)[k] : nullptr);
 }
 
 std::vector<Eigen::Vector3f> SemanticMapBuilder::moverSamples(
@@ -210,18 +209,18 @@ size_t SemanticMapBuilder::dropUnconfirmedNearMovers()
     NearMoverDrops dropped;
     const auto keep = nearMoverFilter(dropped);
     if (keep)
-        rebuild(keep);
+        rebuild(&*keep);
     return dropped.unconfirmed + dropped.seenThrough;
 }
 
-std::function<bool(const Eigen::Vector3f&)> SemanticMapBuilder::nearMoverFilter(
+std::optional<SemanticMapBuilder::KeepMasks> SemanticMapBuilder::nearMoverFilter(
     NearMoverDrops& dropped) const
 {
     dropped = {};
     const bool confirm = params_.confirm_near_movers >= 2;
     const bool seeThrough = params_.see_through_margin > 0.0;
     if ((!confirm && !seeThrough) || !(params_.prune_near_movers > 0.0) || contributions_.empty())
-        return nullptr;
+        return std::nullopt;
     const auto near = nearMovers();
     std::vector<std::vector<maps::SemanticPoint>> world;
     world.reserve(contributions_.size());
@@ -230,29 +229,31 @@ std::function<bool(const Eigen::Vector3f&)> SemanticMapBuilder::nearMoverFilter(
     std::shared_ptr<const KeyFrameVoxels> voxels;
     if (confirm)
         voxels = confirmationVoxels(world, near);
-    std::shared_ptr<const LatestView> latest;
+    std::optional<LatestView> latest;
     if (seeThrough)
-        latest = std::make_shared<LatestView>(contributions_, params_.see_through_margin);
-    const auto unconfirmed = [voxels](const Eigen::Vector3f& p)
-    { return voxels && !voxels->confirmed(p); };
-    const auto seen = [latest](const Eigen::Vector3f& p)
-    { return latest && latest->seenThrough(p); };
-    for (const auto& w : world)
+        latest.emplace(contributions_, params_.see_through_margin);
+    // Each point's fate once: the rebuild inserts by these masks.
+    KeepMasks keep(world.size());
+    for (size_t k = 0; k < world.size(); ++k)
     {
-        for (const auto& p : w)
+        keep[k].assign(world[k].size(), true);
+        for (size_t i = 0; i < world[k].size(); ++i)
         {
-            if (!near(p.position))
+            const Eigen::Vector3f& p = world[k][i].position;
+            if (!near(p))
                 continue;
-            if (unconfirmed(p.position))
+            if (voxels && !voxels->confirmed(p))
                 dropped.unconfirmed++;
-            else if (seen(p.position))
+            else if (latest && latest->seenThrough(p))
                 dropped.seenThrough++;
+            else
+                continue;
+            keep[k][i] = false;
         }
     }
     if (dropped.unconfirmed + dropped.seenThrough == 0)
-        return nullptr;
-    return [near, unconfirmed, seen](const Eigen::Vector3f& p)
-    { return !near(p) || (!unconfirmed(p) && !seen(p)); };
+        return std::nullopt;
+    return keep;
 }
 
 std::shared_ptr<const KeyFrameVoxels> SemanticMapBuilder::confirmationVoxels(

@@ -40,6 +40,22 @@ struct PinholeCamera
         return {fx * p_cam.x() / p_cam.z() + cx, fy * p_cam.y() / p_cam.z() + cy};
     }
 
+    /// Applies the plumb-bob distortion to normalised coordinates (x/z, y/z), in place, in
+    /// the precision of T (the coefficients are cast to it first).
+    template <class T>
+    void distortNormalised(T& x, T& y) const
+    {
+        const auto k1 = static_cast<T>(distortion[0]), k2 = static_cast<T>(distortion[1]);
+        const auto p1 = static_cast<T>(distortion[2]), p2 = static_cast<T>(distortion[3]);
+        const auto k3 = static_cast<T>(distortion[4]);
+        const T r2 = x * x + y * y;
+        const T radial = T(1) + r2 * (k1 + r2 * (k2 + r2 * k3));
+        const T xd = x * radial + T(2) * p1 * x * y + p2 * (r2 + T(2) * x * x);
+        const T yd = y * radial + p1 * (r2 + T(2) * y * y) + T(2) * p2 * x * y;
+        x = xd;
+        y = yd;
+    }
+
     cv::Mat cameraMatrix() const;  ///< 3x3 CV_64F
     cv::Mat distCoeffs() const;    ///< 1x5 CV_64F
 

@@ -29,8 +29,6 @@ public:
     const std::vector<cv::Point2f>& depthRays() const { return rays_; }
 
 private:
-    /// Applies the colour camera's plumb-bob distortion to normalised coordinates.
-    void distort(float& x, float& y) const;
     /// Where each pixel of one depth row (pixels first .. first + cols - 1) lands: colour
     /// column + 0.5, row + 0.5 and depth in the colour frame (meaningless where depth <= 0).
     void projectRow(const float* depth, size_t first, size_t cols, float* us, float* vs,

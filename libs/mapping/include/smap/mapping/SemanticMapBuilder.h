@@ -77,19 +77,22 @@ public:
     const MapBuilderParameters& parameters() const { return params_; }
 
 private:
-    /// Inserts c at its pose; `keep` (when set) picks which of its points, by world position.
-    void insert(const KeyFrameContribution& c,
-                const std::function<bool(const Eigen::Vector3f&)>& keep = nullptr);
-    /// Clears both maps and inserts every contribution at its pose, filtered by `keep`.
-    void rebuild(const std::function<bool(const Eigen::Vector3f&)>& keep);
+    /// Per contribution, per point of points_cam: whether it enters the maps.
+    using KeepMasks = std::vector<std::vector<bool>>;
+    /// Inserts c at its pose; `keep` (when set, one entry per point) picks which of its points.
+    void insert(const KeyFrameContribution& c, const std::vector<bool>* keep = nullptr);
+    /// Clears both maps and inserts every contribution at its pose, filtered by `keep` (null:
+    /// all points).
+    void rebuild(const KeepMasks* keep);
     struct NearMoverDrops
     {
         size_t unconfirmed = 0;
         size_t seenThrough = 0;  ///< confirmed, but seen through since
     };
-    /// The test of dropUnconfirmedNearMovers at the contributions' poses: null when off or
-    /// when it would drop nothing; `dropped` says how many contribution points it drops.
-    std::function<bool(const Eigen::Vector3f&)> nearMoverFilter(NearMoverDrops& dropped) const;
+    /// The test of dropUnconfirmedNearMovers at the contributions' poses, decided once per
+    /// point: nullopt when off or when it would drop nothing; `dropped` says how many
+    /// contribution points it drops.
+    std::optional<KeepMasks> nearMoverFilter(NearMoverDrops& dropped) const;
     /// Which keyframes put the points near movers (world: each contribution at its pose).
     std::shared_ptr<const KeyFrameVoxels> confirmationVoxels(
         const std::vector<std::vector<maps::SemanticPoint>>& world,
