@@ -142,7 +142,9 @@ TEST(GlobalBundleAdjustment, DriftedKeyFramesAndPointsReturnToTheTruth)
     ASSERT_GT(translationError(last->T_cam_world(), truePose(kKeyFrames - 1)), 0.05);
 
     const std::atomic<bool> never{false};
+    const uint64_t correctionsBefore = s.map.corrections();
     const auto stats = slam::globalBundleAdjustment(s.map, 10, never);
+    EXPECT_EQ(s.map.corrections(), correctionsBefore + 1) << "tracking is told to follow";
     EXPECT_EQ(stats.keyframes, kKeyFrames - 1);
     EXPECT_EQ(stats.fixedKeyframes, 1);
     EXPECT_EQ(stats.points, nPoints);

@@ -3,10 +3,12 @@
 #include <array>
 #include <cmath>
 #include <map>
+#include <set>
 #include <vector>
 
 #include "ReprojectionCost.h"
 #include "smap/slam/Map.h"
+#include "smap/slam/MapCorrection.h"
 
 namespace smap::slam
 {
@@ -23,6 +25,12 @@ public:
 
 private:
     const std::atomic<bool>& abort_;
+};
+
+enum class BaScope
+{
+    Local,
+    Global
 };
 
 struct BaKeyFrame
@@ -165,10 +173,9 @@ void classifyOutliers(BaProblem& pb)
     }
 }
 
-/// Under the map mutex: outlier observations removed, then the poses and points written back.
-int writeBack(const BaProblem& pb, Map& map)
+/// Removes the observations classified as outliers from the map. Hold the map mutex.
+int removeOutliers(const BaProblem& pb)
 {
-    std::lock_guard<std::mutex> lock(map.mutex());
     int removed = 0;
     for (const auto& o : pb.obs)
     {
@@ -182,9 +189,12 @@ int writeBack(const BaProblem& pb, Map& map)
         mp->eraseObservation(&kf);
         removed++;
     }
-    for (const auto& k : pb.kfs)
-        if (!k.fixed && !k.kf->isBad())
-            k.kf->setPose(paramsToPose(k.pose.data()));
+    return removed;
+}
+
+/// The problem's points written back. Hold the map mutex.
+void writePoints(const BaProblem& pb)
+{
     for (const auto& p : pb.pts)
     {
         if (p.mp->isBad())
@@ -192,13 +202,46 @@ int writeBack(const BaProblem& pb, Map& map)
         p.mp->position_world = Eigen::Vector3d(p.position[0], p.position[1], p.position[2]);
         p.mp->updateNormalAndDepth();
     }
+}
+
+/// Local: the problem's keyframes and points as solved. Global: the same, and what tracking
+/// added to the map while it was solved follows the newest keyframe of the problem
+/// (MapCorrection.h), so that it stays where it was against its neighbours; tracking is told
+/// to follow. Under the map mutex; returns the outlier observations removed.
+int writeBack(const BaProblem& pb, Map& map, BaScope scope)
+{
+    std::lock_guard<std::mutex> lock(map.mutex());
+    const int removed = removeOutliers(pb);
+    if (scope == BaScope::Global)
+    {
+        std::map<uint64_t, Eigen::Isometry3d> old, solved;
+        std::set<uint64_t> placed;
+        for (const auto& k : pb.kfs)
+        {
+            old[k.kf->id()] = k.kf->T_cam_world();
+            solved[k.kf->id()] = k.fixed ? k.kf->T_cam_world() : paramsToPose(k.pose.data());
+        }
+        for (const auto& p : pb.pts)
+            placed.insert(p.mp->id());
+        if (!old.empty())
+            applyCorrections(map, correctionsBetween(old, solved), placed);
+        map.noteCorrection();
+    }
+    else
+    {
+        for (const auto& k : pb.kfs)
+            if (!k.fixed && !k.kf->isBad())
+                k.kf->setPose(paramsToPose(k.pose.data()));
+    }
+    writePoints(pb);
     return removed;
 }
 
 // Robust solve, outliers classified, plain solve, classified again; then the result is
 // written back under the map mutex.
-BundleAdjustmentStats solveAndWriteBack(BaProblem& pb, Map& map, int robust_iterations,
-                                        int refine_iterations, const std::atomic<bool>& abort)
+BundleAdjustmentStats solveAndWriteBack(BaProblem& pb, Map& map, BaScope scope,
+                                        int robust_iterations, int refine_iterations,
+                                        const std::atomic<bool>& abort)
 {
     BundleAdjustmentStats stats;
     for (const auto& k : pb.kfs)
@@ -216,7 +259,7 @@ BundleAdjustmentStats solveAndWriteBack(BaProblem& pb, Map& map, int robust_iter
         classifyOutliers(pb);
     }
     stats.aborted = stats.aborted || abort.load();
-    stats.outliersRemoved = writeBack(pb, map);
+    stats.outliersRemoved = writeBack(pb, map, scope);
     return stats;
 }
 }  // namespace
@@ -237,7 +280,8 @@ BundleAdjustmentStats localBundleAdjustment(const std::shared_ptr<KeyFrame>& key
                 pb.addKeyFrame(map, *kf, kf->id() == 0);
         pb.addPointsOf(map, pb.kfs.size());
     }
-    return solveAndWriteBack(pb, map, params.ba_iterations, params.ba_refine_iterations, abort);
+    return solveAndWriteBack(pb, map, BaScope::Local, params.ba_iterations,
+                             params.ba_refine_iterations, abort);
 }
 
 BundleAdjustmentStats globalBundleAdjustment(Map& map, int iterations,
@@ -251,6 +295,6 @@ BundleAdjustmentStats globalBundleAdjustment(Map& map, int iterations,
                 pb.addKeyFrame(map, *kf, id == 0);
         pb.addPointsOf(map, pb.kfs.size());
     }
-    return solveAndWriteBack(pb, map, iterations, iterations, abort);
+    return solveAndWriteBack(pb, map, BaScope::Global, iterations, iterations, abort);
 }
 }  // namespace smap::slam

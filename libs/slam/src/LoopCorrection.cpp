@@ -9,6 +9,7 @@
 #include <thread>
 
 #include "smap/slam/Map.h"
+#include "smap/slam/MapCorrection.h"
 #include "smap/slam/ProjectionSearch.h"
 
 namespace smap::slam
@@ -89,29 +90,6 @@ GraphCopy copyGraph(Map& map, KeyFrame& kf, const LoopMatch& match,
     g.edges.insert(g.edges.end(), loopEdges.begin(), loopEdges.end());
     g.fixed = {g.old.begin()->first, match.loop->id()};
     return g;
-}
-
-/// Every live keyframe and point to the corrected poses. Keyframes created while the graph was
-/// solved follow the newest keyframe that was in it.
-void writeBack(Map& map, const Poses& old, const Poses& corrected)
-{
-    Poses C;  // per keyframe: T_cam_world_new = T_cam_world_old * C
-    for (const auto& [id, T] : corrected)
-        C[id] = old.at(id).inverse() * T;
-    const Eigen::Isometry3d newest = C.rbegin()->second;
-    for (const auto& [id, kf] : map.keyframes())
-    {
-        if (!C.count(id))
-            C[id] = newest;
-        kf->setPose(kf->T_cam_world() * C[id]);
-    }
-    for (const auto& [id, mp] : map.points())
-    {
-        if (mp->isBad() || mp->observations().empty())
-            continue;
-        const auto c = C.find(mp->observations().begin()->first);
-        mp->position_world = (c != C.end() ? c->second : newest).inverse() * mp->position_world;
-    }
 }
 
 /// Runs one step of a fusion under the map mutex when given the map (a consistent revisit:
@@ -234,7 +212,7 @@ LoopCorrectionOutcome correctLoop(Map& map, const std::shared_ptr<KeyFrame>& kf,
     out.keyframes = static_cast<int>(corrected.size());
     std::lock_guard<std::mutex> lock(map.mutex());
     const Eigen::Isometry3d before = kf->T_cam_world();
-    writeBack(map, g.old, corrected);
+    applyCorrections(map, correctionsBetween(g.old, corrected));
     const Eigen::Isometry3d moved = before.inverse() * kf->T_cam_world();
     out.moved_m = (kf->centre_world() - before.inverse().translation()).norm();
     out.turned_deg = Eigen::AngleAxisd(moved.rotation()).angle() * 180.0 / M_PI;

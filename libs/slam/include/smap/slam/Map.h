@@ -46,7 +46,8 @@ public:
     /// Drops bad keyframes and points from the live sets.
     void removeBad();
 
-    /// Loop corrections applied so far: tracking re-expresses its last poses when it changes.
+    /// Corrections (loop closures, global bundle adjustments) applied so far: tracking
+    /// re-expresses its last poses when it changes.
     uint64_t corrections() const { return corrections_; }
     void noteCorrection() { ++corrections_; }
 

@@ -170,7 +170,7 @@ private:
     /// odometry's, refined against the map when that frame is the last one.
     std::optional<uint64_t> poseEarlierFrameFromOdometry(const Frame& frame);
     std::shared_ptr<KeyFrame> reference_;
-    /// The map's loop corrections, and the reference keyframe's pose, at the last frame.
+    /// The map's corrections, and the reference keyframe's pose, at the last frame.
     uint64_t correctionsSeen_ = 0;
     Eigen::Isometry3d T_reference_world_seen_ = Eigen::Isometry3d::Identity();
     uint64_t lastKeyFrameFrameId_ = 0;
