@@ -1,5 +1,6 @@
 // KeyFrameWorker: keyframes reach the maps in order; a full queue waits or drops as configured;
-// a failing segmenter surfaces on the tracking side.
+// a failing segmenter surfaces on the tracking side; a worker that has fallen behind gives
+// tracking the newest keyframe's mask first.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -9,6 +10,7 @@
 
 #include "smap/core/InputError.h"
 #include "smap/pipeline/KeyFrameWorker.h"
+#include "smap/pipeline/MaskBoard.h"
 
 using namespace smap;
 
@@ -136,4 +138,60 @@ TEST(KeyFrameWorker, SegmenterFailureReachesTheCaller)
     {
         EXPECT_NE(std::string(e.what()).find("'bad'"), std::string::npos) << e.what();
     }
+}
+
+namespace
+{
+/// Six keyframes queued behind a 100 ms segmenter; returns the frame id of the newest mask on
+/// the board up to each keyframe (-1: none) and checks that the maps took them in order.
+std::vector<int> masksAfterABacklog(bool newestFirst, size_t& segmentedAhead)
+{
+    auto w = worker(std::chrono::milliseconds(100), 8);
+    pipeline::MaskBoard board;
+    std::vector<bool> movable(core::LabelSet::pascalVoc().size(), false);
+    movable[9] = true;
+    w->setMaskBoard(&board, movable, 4, newestFirst);
+    std::vector<uint64_t> mapped;
+    w->setObserver(
+        [&](const pipeline::KeyFrameJob& j, const maps::CObservationSemanticRGBD& obs,
+            const mapping::DynamicRegions&)
+        {
+            mapped.push_back(j.keyframe);
+            EXPECT_EQ(obs.labels.at<uint8_t>(0, 0), 9);
+        });
+    for (uint64_t k = 0; k < 6; ++k)
+        EXPECT_TRUE(w->submit(job(k, static_cast<double>(k)), true));
+    w->finish();
+    EXPECT_EQ(mapped, (std::vector<uint64_t>{0, 1, 2, 3, 4, 5}));
+    const auto s = w->stats();
+    EXPECT_EQ(s.keyframes, 6U);
+    EXPECT_EQ(s.segmentation_ms.size(), 6U) << "each keyframe segmented once";
+    segmentedAhead = s.segmentedAhead;
+    std::vector<int> newest;
+    for (uint64_t k = 0; k < 6; ++k)
+    {
+        const auto l = board.newest(k, false);
+        newest.push_back(l.mask ? static_cast<int>(l.mask->frameId()) : -1);
+    }
+    return newest;
+}
+}  // namespace
+
+TEST(KeyFrameWorker, BehindItSegmentsTheNewestKeyFrameFirst)
+{
+    size_t ahead = 0;
+    const std::vector<int> newest = masksAfterABacklog(true, ahead);
+    EXPECT_GE(ahead, 1U);
+    // Keyframe 5's mask came before those of 1-4, which were then too old to publish.
+    EXPECT_EQ(newest[5], 5);
+    for (size_t k = 1; k < 5; ++k)
+        EXPECT_LE(newest[k], 0) << "keyframe " << k;
+}
+
+TEST(KeyFrameWorker, InOrderEveryMaskIsPublished)
+{
+    size_t ahead = 0;
+    const std::vector<int> newest = masksAfterABacklog(false, ahead);
+    EXPECT_EQ(ahead, 0U);
+    EXPECT_EQ(newest, (std::vector<int>{0, 1, 2, 3, 4, 5}));
 }

@@ -388,6 +388,7 @@ core::JsonValue keyFrameSummary(pipeline::SemanticMapper& mapper,
         .set("tracking_waited_queue_full", static_cast<uint64_t>(ws.waits))
         .set("queue_capacity", params.keyframe_queue)
         .set("queue_high_water", static_cast<uint64_t>(ws.queueHighWater))
+        .set("segmented_ahead", static_cast<uint64_t>(ws.segmentedAhead))
         .set("segmenter", mapper.worker().segmenterDescription())
         .set(
             "dynamic_pixel_fraction",

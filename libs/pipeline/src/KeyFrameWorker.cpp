@@ -30,11 +30,13 @@ KeyFrameWorker::~KeyFrameWorker()
         board_->close();
 }
 
-void KeyFrameWorker::setMaskBoard(MaskBoard* board, std::vector<bool> movable, int sampleStep)
+void KeyFrameWorker::setMaskBoard(MaskBoard* board, std::vector<bool> movable, int sampleStep,
+                                  bool newestFirst)
 {
     board_ = board;
     movable_ = std::move(movable);
     maskStep_ = sampleStep;
+    newestFirst_ = newestFirst;
 }
 
 void KeyFrameWorker::publishMask(const KeyFrameJob& job, const cv::Mat& labels) const
@@ -46,6 +48,49 @@ void KeyFrameWorker::publishMask(const KeyFrameJob& job, const cv::Mat& labels) 
         job.T_world_cam.getHomogeneousMatrixVal<mrpt::math::CMatrixDouble44>().asEigen();
     board_->publish(std::make_shared<const dynamic::MovableMask>(
         job.frameId, T_world_cam, labels, job.frame.depth, job.frame.camera, movable_, maskStep_));
+}
+
+void KeyFrameWorker::publishInOrder(const KeyFrameJob& job, const cv::Mat& labels)
+{
+    if (job.frameId + 1 <= newestPublished_)
+        return;
+    publishMask(job, labels);
+    newestPublished_ = job.frameId + 1;
+}
+
+void KeyFrameWorker::segmentNewestAhead()
+{
+    if (!newestFirst_ || !board_)
+        return;
+    const std::optional<KeyFrameJob> newest = queue_.newest();
+    if (!newest || newest->frameId + 1 <= newestPublished_)
+        return;
+    Labelled seg = segmentAtFrameSize(newest->frame);
+    publishInOrder(*newest, seg.labels);
+    segmentedAhead_[newest->frameId] = std::move(seg);
+    std::lock_guard<std::mutex> lock(statsMutex_);
+    stats_.segmentedAhead++;
+}
+
+KeyFrameWorker::Labelled KeyFrameWorker::segmentAtFrameSize(const core::RgbdFrame& f) const
+{
+    if (!segmenter_)
+        return {cv::Mat(f.colour.size(), CV_8UC1, cv::Scalar(255)),
+                cv::Mat(f.colour.size(), CV_32FC1, cv::Scalar(0.0F))};
+    // Labels and their probability at the segmenter's working resolution, then brought to the
+    // frame's (nearest / bilinear): resampling every class's probabilities instead
+    // (Segmenter::segment) costs tens of ms per keyframe at 640x480 for the same labels away
+    // from boundaries.
+    const auto t0 = std::chrono::steady_clock::now();
+    const segmentation::SegmentationResult seg = segmenter_->segmentNative(f);
+    Labelled out{seg.labels, seg.labelConfidence(), 0.0};
+    if (out.labels.size() != f.colour.size())
+    {
+        cv::resize(out.labels, out.labels, f.colour.size(), 0, 0, cv::INTER_NEAREST);
+        cv::resize(out.confidence, out.confidence, f.colour.size(), 0, 0, cv::INTER_LINEAR);
+    }
+    out.ms = core::millisecondsSince(t0);
+    return out;
 }
 
 std::string KeyFrameWorker::segmenterDescription() const
@@ -105,6 +150,7 @@ void KeyFrameWorker::run()
     {
         try
         {
+            segmentNewestAhead();
             process(*job);
         }
         catch (...)
@@ -128,32 +174,24 @@ void KeyFrameWorker::run()
 void KeyFrameWorker::process(KeyFrameJob& job)
 {
     const core::RgbdFrame& f = job.frame;
-    auto t0 = std::chrono::steady_clock::now();
     auto obs = maps::CObservationSemanticRGBD::Create();
-    if (segmenter_)
+    const auto ahead = segmentedAhead_.find(job.frameId);
+    Labelled seg;
+    if (ahead != segmentedAhead_.end())
     {
-        // Labels and their probability at the segmenter's working resolution, then brought to
-        // the frame's (nearest / bilinear): resampling every class's probabilities instead
-        // (Segmenter::segment) costs tens of ms per keyframe at 640x480 for the same labels
-        // away from boundaries.
-        const segmentation::SegmentationResult seg = segmenter_->segmentNative(f);
-        obs->labels = seg.labels;
-        obs->confidence = seg.labelConfidence();
-        if (obs->labels.size() != f.colour.size())
-        {
-            cv::resize(obs->labels, obs->labels, f.colour.size(), 0, 0, cv::INTER_NEAREST);
-            cv::resize(obs->confidence, obs->confidence, f.colour.size(), 0, 0, cv::INTER_LINEAR);
-        }
+        seg = std::move(ahead->second);
+        segmentedAhead_.erase(ahead);
     }
     else
     {
-        obs->labels = cv::Mat(f.colour.size(), CV_8UC1, cv::Scalar(255));
-        obs->confidence = cv::Mat(f.colour.size(), CV_32FC1, cv::Scalar(0.0F));
+        seg = segmentAtFrameSize(f);
     }
-    const double segMs = core::millisecondsSince(t0);
-    publishMask(job, obs->labels);
+    obs->labels = seg.labels;
+    obs->confidence = seg.confidence;
+    const double segMs = seg.ms;
+    publishInOrder(job, obs->labels);
 
-    t0 = std::chrono::steady_clock::now();
+    auto t0 = std::chrono::steady_clock::now();
     const mapping::DynamicRegions regions = finder_.find(obs->labels, f.depth, job.dynamicPoints);
     const double assocMs = core::millisecondsSince(t0);
 

@@ -29,9 +29,9 @@ SemanticMapper::SemanticMapper(const SemanticMapperParameters& params,
         params_.map, static_cast<size_t>(params_.pipeline.keyframe_queue));
     if (semanticEvidenceOn())
     {
-        worker_->setMaskBoard(&maskBoard_,
-                              worker_->labels().movable(params_.semanticEvidence.movable_prior),
-                              params_.semanticEvidence.sample_step);
+        worker_->setMaskBoard(
+            &maskBoard_, worker_->labels().movable(params_.semanticEvidence.movable_prior),
+            params_.semanticEvidence.sample_step, params_.semanticEvidence.mask_latency == 0);
     }
 }
 

@@ -57,6 +57,15 @@ public:
         return item;
     }
 
+    /// A copy of the newest item, when one is queued (the oldest stays first to pop).
+    std::optional<T> newest() const
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (items_.empty())
+            return std::nullopt;
+        return items_.back();
+    }
+
     /// No more pushes; pop drains what is queued, then returns nullopt.
     void close()
     {

@@ -8,6 +8,7 @@
 
 #include <exception>
 #include <functional>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <thread>
@@ -43,8 +44,14 @@ public:
 
     /// Semantic evidence for tracking: after segmenting a keyframe, publish its pixels of the
     /// classes `movable` marks (by id) on `board` (sampled every `sampleStep` px); the board is
-    /// closed when the worker stops or fails. Set before the first keyframe.
-    void setMaskBoard(MaskBoard* board, std::vector<bool> movable, int sampleStep);
+    /// closed when the worker stops or fails. With `newestFirst`, a worker that has fallen
+    /// behind segments the newest queued keyframe before the oldest, so that tracking gets a
+    /// fresh mask (a mask older than one already published is then not published); the maps
+    /// still take the keyframes in order. Without it (tracking waits for a given keyframe's
+    /// mask: reproducible runs) every mask is published, in order. Set before the first
+    /// keyframe.
+    void setMaskBoard(MaskBoard* board, std::vector<bool> movable, int sampleStep,
+                      bool newestFirst);
 
     /// Queues a keyframe. wait = true blocks while the queue is full; false drops the keyframe
     /// then. Returns whether it was queued. Rethrows a failure of the worker thread.
@@ -63,6 +70,7 @@ public:
         size_t queueHighWater = 0;
         std::vector<double> segmentation_ms, association_ms, insertion_ms, observer_ms;
         size_t dynamicPixels = 0, staticPixels = 0;
+        size_t segmentedAhead = 0;  ///< keyframes segmented before older ones (newestFirst)
     };
     /// Copy of the statistics so far.
     Stats stats() const;
@@ -72,6 +80,17 @@ public:
 private:
     void run();
     void process(KeyFrameJob& job);
+    /// newestFirst: the newest queued keyframe segmented and its mask published now.
+    void segmentNewestAhead();
+    /// A keyframe's labels and their confidence at the frame's size.
+    struct Labelled
+    {
+        cv::Mat labels, confidence;
+        double ms = 0.0;  ///< the segmentation's time
+    };
+    Labelled segmentAtFrameSize(const core::RgbdFrame& f) const;
+    /// The keyframe's mask onto the board unless a newer one is there already.
+    void publishInOrder(const KeyFrameJob& job, const cv::Mat& labels);
     /// The keyframe's movable-class mask onto the board (when one is set).
     void publishMask(const KeyFrameJob& job, const cv::Mat& labels) const;
 
@@ -84,6 +103,10 @@ private:
     MaskBoard* board_ = nullptr;
     std::vector<bool> movable_;
     int maskStep_ = 4;
+    bool newestFirst_ = false;
+    uint64_t newestPublished_ = 0;  ///< frame id of the newest mask published (+1; 0 = none)
+    /// Keyframes segmented ahead of their turn, by frame id (worker thread only).
+    std::map<uint64_t, Labelled> segmentedAhead_;
     BoundedQueue<KeyFrameJob> queue_;
     mutable std::mutex statsMutex_;
     Stats stats_;
