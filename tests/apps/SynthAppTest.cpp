@@ -77,6 +77,13 @@ TEST(SynthApp, RejectsBadArguments)
     EXPECT_THROW(app.run({"--out", dir / "x"}, out), core::InputError);
     EXPECT_THROW(app.run({"--preset", "walking_xyz", "--out", dir / "x", "--frames", "0"}, out),
                  core::InputError);
+    EXPECT_THROW(
+        app.run({"--preset", "walking_xyz", "--out", dir / "x", "--distance-scale", "2"}, out),
+        core::InputError);
+    EXPECT_THROW(app.run({"--composite-onto", dir.str(), "--people", dir.str(), "--out", dir / "x",
+                          "--distance-scale", "0"},
+                         out),
+                 core::InputError);
     EXPECT_FALSE(fs::exists(dir / "x"));
 }
 

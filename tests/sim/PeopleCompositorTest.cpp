@@ -100,7 +100,7 @@ TEST(PeopleCompositor, ACrowdGathersCloseInFrontOfTheMiddleFrame)
     for (const auto& f : real.frames)
         probes.push_back({asRgbd(f, real.camera), f.T_world_cam});
     const sim::PeopleCompositor comp({ellipseSprite()}, real.trajectory, probes, 3, 3,
-                                     sim::CompositeScenario::Crowd);
+                                     sim::CompositeLayout{sim::CompositeScenario::Crowd});
     ASSERT_EQ(comp.people().size(), 3u);
     const auto& middle = probes[probes.size() / 2].T_world_cam;
     const Eigen::Vector3d c(middle.x(), middle.y(), middle.z());
@@ -111,6 +111,47 @@ TEST(PeopleCompositor, ACrowdGathersCloseInFrontOfTheMiddleFrame)
         EXPECT_LE(d.norm(), 1.6 * 1.01 + 0.6) << "within 1.6 m ahead and 0.6 m aside";
         EXPECT_GE(p.speed, 1.3);
     }
+}
+
+namespace
+{
+/// How far ahead of the middle probe (along its view on the floor) each person starts.
+std::vector<double> distancesAheadOfTheMiddleFrame(double distanceScale)
+{
+    const RealSequence real = renderStaticSequence();
+    std::vector<sim::PeopleCompositor::Probe> probes;
+    for (const auto& f : real.frames)
+        probes.push_back({asRgbd(f, real.camera), f.T_world_cam});
+    sim::CompositeLayout layout;
+    layout.scenario = sim::CompositeScenario::Crowd;
+    layout.distanceScale = distanceScale;
+    const sim::PeopleCompositor comp({ellipseSprite()}, real.trajectory, probes, 3, 3, layout);
+    const auto& middle = probes[probes.size() / 2].T_world_cam;
+    const Eigen::Vector3d c(middle.x(), middle.y(), middle.z());
+    Eigen::Vector3d forward = middle.getRotationMatrix().asEigen().col(2);
+    forward -= comp.up() * comp.up().dot(forward);
+    forward.normalize();
+    std::vector<double> ahead;
+    for (const auto& p : comp.people())
+        ahead.push_back(forward.dot(p.start - c));
+    return ahead;
+}
+}  // namespace
+
+TEST(PeopleCompositor, TheDistanceScaleMovesTheCrowdFurtherAhead)
+{
+    // The crowd starts 0.9 - 1.6 m ahead; scaled by 2, 1.8 - 3.2 m.
+    for (const double ahead : distancesAheadOfTheMiddleFrame(1.0))
+    {
+        EXPECT_GE(ahead, 0.9 - 1e-6);
+        EXPECT_LE(ahead, 1.6 + 1e-6);
+    }
+    for (const double ahead : distancesAheadOfTheMiddleFrame(2.0))
+    {
+        EXPECT_GE(ahead, 1.8 - 1e-6);
+        EXPECT_LE(ahead, 3.2 + 1e-6);
+    }
+    EXPECT_THROW(distancesAheadOfTheMiddleFrame(0.0), core::InputError);
 }
 
 TEST(PeopleCompositor, PeopleStandOnTheFloorInFreeSpaceWithCorrectOcclusion)

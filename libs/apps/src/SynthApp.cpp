@@ -57,6 +57,8 @@ std::string SynthApp::usage()
            "                walkers close in front of the middle frame, filling the view),\n"
            "                seated (in place, swaying), stop_and_stay (walks in, stands 5 s,\n"
            "                walks on, stands again); it sets the default --people-count\n"
+           "  --distance-scale F  multiplies how far ahead of the camera the people walk\n"
+           "                (default 1; e.g. 1.4 for a crowd that covers about half the view)\n"
            "  --ground-truth F  the colour camera's poses to place the people with (default\n"
            "                TUM_DIR/groundtruth.txt; for 7-Scenes TUM_DIR/groundtruth_sfm.txt,\n"
            "                whose poses are the colour camera's); also the output's ground truth\n"
@@ -177,13 +179,14 @@ private:
 core::JsonValue compositeMeta(const std::string& folder, const std::string& posesPath,
                               const std::string& peopleDir, long count, uint32_t seed,
                               size_t frames, const sim::PeopleCompositor& compositor,
-                              sim::CompositeScenario scenario)
+                              const sim::CompositeLayout& layout)
 {
     auto meta = core::JsonValue::object();
     meta.set("generator", "smap-synth").set("mode", "composite").set("source", folder);
     meta.set("poses", posesPath);
     meta.set("people_cutouts", peopleDir).set("people", static_cast<int64_t>(count));
-    meta.set("scenario", sim::toString(scenario));
+    meta.set("scenario", sim::toString(layout.scenario));
+    meta.set("distance_scale", layout.distanceScale);
     meta.set("seed", static_cast<int64_t>(seed)).set("frames", static_cast<uint64_t>(frames));
     meta.set("depth_factor", sim::SyntheticSequenceWriter::kDepthFactor);
     meta.set("floor_height_m", compositor.floorHeight());
@@ -212,10 +215,14 @@ core::PinholeCamera compositeOnto(const CommandLine& cl, size_t frames, uint32_t
     if (!peopleDir)
         throw core::InputError(
             "--composite-onto needs --people CUTOUT_DIR (e.g. ../shared/data/people)");
-    const sim::CompositeScenario scenario =
-        sim::compositeScenarioFromString(cl.value("scenario").value_or("random"));
+    sim::CompositeLayout layout;
+    layout.scenario = sim::compositeScenarioFromString(cl.value("scenario").value_or("random"));
+    layout.distanceScale = cl.number("distance-scale", layout.distanceScale);
+    if (!(layout.distanceScale > 0.0 && layout.distanceScale <= 10.0))
+        throw core::InputError(
+            mrpt::format("--distance-scale %g must be in (0, 10]", layout.distanceScale));
     const long count =
-        cl.integer("people-count", static_cast<long>(sim::defaultPeopleCount(scenario)));
+        cl.integer("people-count", static_cast<long>(sim::defaultPeopleCount(layout.scenario)));
     if (count < 1 || count > 8)
         throw core::InputError("--people-count must be 1 .. 8");
     io::FrameSourceParameters params;
@@ -230,7 +237,7 @@ core::PinholeCamera compositeOnto(const CommandLine& cl, size_t frames, uint32_t
     for (auto& s : sim::loadPersonSprites(*peopleDir))
         sprites.push_back(std::move(s.image));
     const sim::PeopleCompositor compositor(sprites, posed.gt, probes, static_cast<size_t>(count),
-                                           seed, scenario);
+                                           seed, layout);
     if (compositor.freeSpaceViolations() > 0)
         log.logFmt(mrpt::system::LVL_WARN,
                    "compositing: of %zu body samples of the people, %zu lie within 20 cm of an "
@@ -240,10 +247,10 @@ core::PinholeCamera compositeOnto(const CommandLine& cl, size_t frames, uint32_t
     CompositeProducer produce(folder, params, posed, compositor);
     sim::SyntheticSequenceWriter writer;
     writer.setMinLoggingLevel(log.getMinLoggingLevel());
-    writer.write(std::ref(produce), frames,
-                 compositeMeta(folder, posed.posesPath, *peopleDir, count, seed, frames, compositor,
-                               scenario),
-                 source.camera(), outDir);
+    writer.write(
+        std::ref(produce), frames,
+        compositeMeta(folder, posed.posesPath, *peopleDir, count, seed, frames, compositor, layout),
+        source.camera(), outDir);
     return source.camera();
 }
 
@@ -274,6 +281,7 @@ int SynthApp::run(const std::vector<std::string>& args, std::ostream& out)
         .option("people")
         .option("people-count")
         .option("scenario")
+        .option("distance-scale")
         .option("config")
         .option("set");
     cl.option("size").option("jpeg-quality");
@@ -337,10 +345,10 @@ core::PinholeCamera SynthApp::renderPreset(const CommandLine& cl, size_t frames,
                                            int jpegQuality, const std::string& outDir)
 {
     if (cl.has("config") || cl.has("set") || cl.has("people") || cl.has("people-count") ||
-        cl.has("ground-truth") || cl.has("scenario"))
+        cl.has("ground-truth") || cl.has("scenario") || cl.has("distance-scale"))
         throw core::InputError(
-            "--config, --set, --people, --people-count, --scenario and --ground-truth apply to "
-            "--composite-onto only");
+            "--config, --set, --people, --people-count, --scenario, --distance-scale and "
+            "--ground-truth apply to --composite-onto only");
     sim::GeneratorOptions options;
     if (const auto size = cl.value("size"))
         options.camera = cameraOfSize(*size, options.camera);

@@ -304,10 +304,11 @@ std::pair<CompositedPerson, FreeSpaceCheck> placePerson(const std::vector<cv::Ma
                                                         const Eigen::Vector3d& up,
                                                         double floorHeight, size_t i, size_t count,
                                                         uint32_t seed, PlacementDraws& draws,
-                                                        CompositeScenario scenario)
+                                                        const CompositeLayout& layout)
 {
     constexpr int kAttempts = 200;
     // A crowd gathers in front of one frame, the middle one; the others spread over the frames.
+    const CompositeScenario scenario = layout.scenario;
     const size_t anchorIndex =
         scenario == CompositeScenario::Crowd ? probes.size() / 2 : i * probes.size() / count;
     const auto& anchor = probes[anchorIndex].T_world_cam;
@@ -336,6 +337,7 @@ std::pair<CompositedPerson, FreeSpaceCheck> placePerson(const std::vector<cv::Ma
         if (scenario != CompositeScenario::Random)
             applyScenario(scenario, std::uniform_real_distribution<double>(0.0, 1.0)(draws.rng), p,
                           ground, forward, side);
+        p.start += (layout.distanceScale - 1.0) * forward.dot(p.start - ground) * forward;
         const FreeSpaceCheck check = collisions(p, up, probes);
         if (check.inside + check.unseen < bestHits)
         {
@@ -351,10 +353,13 @@ std::pair<CompositedPerson, FreeSpaceCheck> placePerson(const std::vector<cv::Ma
 PeopleCompositor::PeopleCompositor(const std::vector<cv::Mat>& sprites,
                                    const core::Trajectory& T_world_cam,
                                    const std::vector<Probe>& probes, size_t count, uint32_t seed,
-                                   CompositeScenario scenario)
+                                   const CompositeLayout& layout)
 {
     if (sprites.empty() || T_world_cam.empty() || probes.empty())
         throw core::InputError("compositing needs cut-outs, a ground-truth trajectory and a frame");
+    if (!(layout.distanceScale > 0.0 && layout.distanceScale <= 10.0))
+        throw core::InputError(mrpt::format("compositing: distance scale %g must be in (0, 10]",
+                                            layout.distanceScale));
     const Eigen::Vector3d prior = upPrior(T_world_cam);
     std::vector<Eigen::Vector3d> points = probeWorldPoints(probes);
     constexpr size_t kMinFloorPoints = 200;
@@ -375,7 +380,7 @@ PeopleCompositor::PeopleCompositor(const std::vector<cv::Mat>& sprites,
     for (size_t i = 0; i < count; i++)
     {
         const auto [person, check] =
-            placePerson(sprites, probes, up_, floorHeight_, i, count, seed, draws, scenario);
+            placePerson(sprites, probes, up_, floorHeight_, i, count, seed, draws, layout);
         freeSpace_.samples += check.samples;
         freeSpace_.inside += check.inside;
         freeSpace_.unseen += check.unseen;

@@ -34,6 +34,16 @@ std::string toString(CompositeScenario s);
 /// stop-and-stay 1).
 size_t defaultPeopleCount(CompositeScenario s);
 
+/// Where the composited people are placed (smap-synth --scenario, --distance-scale).
+struct CompositeLayout
+{
+    CompositeScenario scenario = CompositeScenario::Random;
+    /// Multiplies how far ahead of its anchor camera each walking line starts (along the
+    /// camera's view projected on the floor), so that the same motion covers less of the view
+    /// (larger) or more (smaller). In (0, 10].
+    double distanceScale = 1.0;
+};
+
 struct CompositedPerson
 {
     cv::Mat sprite;             ///< CV_8UC4 BGRA cut-out
@@ -92,7 +102,7 @@ public:
     /// free by no probe). Sprites are BGRA.
     PeopleCompositor(const std::vector<cv::Mat>& sprites, const core::Trajectory& T_world_cam,
                      const std::vector<Probe>& probes, size_t count, uint32_t seed,
-                     CompositeScenario scenario = CompositeScenario::Random);
+                     const CompositeLayout& layout = {});
 
     CompositeFrame composite(const core::RgbdFrame& frame, const mrpt::poses::CPose3D& T_world_cam,
                              double t) const;
