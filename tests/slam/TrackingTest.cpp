@@ -350,11 +350,62 @@ TEST(RgbdSlam, FrameFailingWithItsWeightsIsTrackedWithRaisedWeights)
     EXPECT_EQ(run(0.0).status, slam::TrackingStatus::Lost) << "without the fallback";
     const auto r = run(0.5);
     ASSERT_EQ(r.status, slam::TrackingStatus::Ok);
+    EXPECT_EQ(r.fallback, slam::TrackingFallback::RaisedWeights);
     // The map's world is the first camera.
     const mrpt::poses::CPose3D T_first_cam =
         seq.groundTruth[kBad].T_world_cam - seq.groundTruth[0].T_world_cam;
     const mrpt::poses::CPose3D error = slam::toCPose3D(r.T_world_cam) - T_first_cam;
     EXPECT_LT(error.norm(), 0.01) << "translation error (m)";
+}
+
+// A frame whose movable-class mask covers nearly every keypoint (a stale or grown mask where
+// people fill the view): raised weights leave movable keypoints out and fail; the last fallback
+// also weights those the motion evidence found still, and tracks the frame at the true pose.
+// Movable keypoints the motion evidence flagged stay out.
+TEST(RgbdSlam, FrameCoveredByAMovableMaskIsTrackedOnItsStillKeypoints)
+{
+    const auto& seq = staticXyz();
+    constexpr size_t kBad = 30;
+    auto run = [&seq](bool stillKnown)
+    {
+        slam::TrackerParameters tp;
+        tp.fallback_weight = 0.5;
+        slam::RgbdSlam slam(features::OrbParameters{}, tp, deterministic());
+        slam::TrackingResult bad;
+        for (size_t i = 0; i <= kBad; ++i)
+        {
+            auto f = slam.prepare(seq.frames[i]);
+            if (i == kBad)
+            {
+                f.movable.assign(f.size(), true);
+                f.stillMovable.assign(f.size(), false);
+                std::vector<float> w(f.size(), 0.0F);
+                for (size_t k = 0; k < w.size(); k += 50)
+                    f.movable[k] = false;  // 2 % outside the mask
+                for (size_t k = 0; k < w.size(); ++k)
+                {
+                    w[k] = f.movable[k] ? 0.0F : 1.0F;
+                    // Half the movable keypoints were found still by the motion evidence.
+                    f.stillMovable[k] = stillKnown && f.movable[k] && k % 2 == 0;
+                }
+                f.setWeights(w);
+            }
+            bad = slam.track(std::move(f));
+        }
+        return bad;
+    };
+    const auto without = run(false);
+    EXPECT_EQ(without.status, slam::TrackingStatus::Lost) << "movable keypoints stay out";
+    EXPECT_EQ(without.fallback, slam::TrackingFallback::None);
+    const auto r = run(true);
+    ASSERT_EQ(r.status, slam::TrackingStatus::Ok);
+    EXPECT_EQ(r.fallback, slam::TrackingFallback::StillMovable);
+    const mrpt::poses::CPose3D T_first_cam =
+        seq.groundTruth[kBad].T_world_cam - seq.groundTruth[0].T_world_cam;
+    const mrpt::poses::CPose3D error = slam::toCPose3D(r.T_world_cam) - T_first_cam;
+    EXPECT_LT(error.norm(), 0.01) << "translation error (m)";
+    EXPECT_EQ(slam::toString(slam::TrackingFallback::StillMovable), "still_movable");
+    EXPECT_EQ(slam::toString(slam::TrackingFallback::None), "");
 }
 
 // A first frame the outside could not vet (all weights 0) starts no map; the next one does, and

@@ -130,7 +130,7 @@ std::string semanticCsv(const pipeline::SemanticMapper::FrameResult& r)
     return std::to_string(r.movableKeypoints) + "," +
            (r.maskAge ? std::to_string(*r.maskAge) : std::string()) + "," +
            mrpt::format("%.3f,%.3f,", r.mask_wait_ms, r.semantic_ms) +
-           (r.tracking.raisedWeights ? "raised_weights" : "");
+           slam::toString(r.tracking.fallback);
 }
 }  // namespace
 
@@ -189,11 +189,12 @@ core::JsonValue RunLog::trackingJson() const
         .set("frames_lost", static_cast<uint64_t>(lost_))
         .set("relocalisations", static_cast<uint64_t>(relocalised_))
         .set("reanchors", static_cast<uint64_t>(reanchored_));
-    uint64_t withMask = 0, raised = 0;
+    uint64_t withMask = 0, raised = 0, stillMovable = 0;
     std::vector<double> ages;
     for (const auto& r : rows_)
     {
-        raised += r.result.tracking.raisedWeights ? 1 : 0;
+        raised += r.result.tracking.fallback == slam::TrackingFallback::RaisedWeights ? 1 : 0;
+        stillMovable += r.result.tracking.fallback == slam::TrackingFallback::StillMovable ? 1 : 0;
         if (r.result.maskAge)
         {
             withMask++;
@@ -201,6 +202,7 @@ core::JsonValue RunLog::trackingJson() const
         }
     }
     j.set("frames_raised_weights", raised)
+        .set("frames_still_movable", stillMovable)
         .set("frames_with_mask", withMask)
         .set("median_mask_age", core::upperMedianInPlace(ages, 0.0));
     return j;

@@ -40,6 +40,20 @@ std::string toString(TrackingStatus s)
     return "unknown";
 }
 
+std::string toString(TrackingFallback f)
+{
+    switch (f)
+    {
+        case TrackingFallback::None:
+            return "";
+        case TrackingFallback::RaisedWeights:
+            return "raised_weights";
+        case TrackingFallback::StillMovable:
+            return "still_movable";
+    }
+    return "unknown";
+}
+
 Tracker::Tracker(Map& map, LocalMapper& mapper, const TrackerParameters& params)
     : COutputLogger("tracking"), map_(map), mapper_(mapper), params_(params)
 {
@@ -139,7 +153,7 @@ std::shared_ptr<KeyFrame> Tracker::trackOnMap(Frame& frame, TrackingResult& resu
         newKf = reanchor(frame, carried, result);
         reanchored = newKf != nullptr;
     }
-    result.raisedWeights = attempt.raisedWeights;
+    result.fallback = attempt.fallback;
     if (attempt.ok)
         newKf = acceptTracked(frame, attempt.relocalised, result);
     else if (!reanchored)
@@ -163,9 +177,11 @@ Tracker::Attempt Tracker::trackWhileTracking(Frame& frame)
     if (ok)
         ok = trackLocalMap(frame);
     if (ok)
-        return {true, false, false};
-    ok = trackWithRaisedWeights(frame);
-    return {ok, false, ok};
+        return {true, false, TrackingFallback::None};
+    for (const auto stage : {TrackingFallback::RaisedWeights, TrackingFallback::StillMovable})
+        if (trackWithRaisedWeights(frame, stage))
+            return {true, false, stage};
+    return {false, false, TrackingFallback::None};
 }
 
 Tracker::Attempt Tracker::trackWhileLost(Frame& frame)
@@ -379,18 +395,33 @@ bool Tracker::trackWithMotionModel(Frame& frame, const Eigen::Isometry3d& veloci
     return frame.discardOutliers() >= 10;
 }
 
-bool Tracker::trackWithRaisedWeights(Frame& frame)
+bool Tracker::trackWithRaisedWeights(Frame& frame, TrackingFallback stage)
 {
     if (params_.fallback_weight <= 0.0 || !last_)
         return false;
     const auto floor = static_cast<float>(params_.fallback_weight);
-    if (std::all_of(frame.weights.begin(), frame.weights.end(),
-                    [floor](float w) { return w >= floor; }))
+    auto raises = [&](size_t i)
+    {
+        const bool movable = i < frame.movable.size() && frame.movable[i];
+        const bool still = i < frame.stillMovable.size() && frame.stillMovable[i];
+        return frame.weights[i] < floor &&
+               (!movable || (stage == TrackingFallback::StillMovable && still));
+    };
+    std::vector<size_t> raised;
+    for (size_t i = 0; i < frame.weights.size(); ++i)
+        if (raises(i))
+            raised.push_back(i);
+    const bool nothingBelowFloor = std::all_of(frame.weights.begin(), frame.weights.end(),
+                                               [floor](float w) { return w >= floor; });
+    // The still-movable stage only adds to the raised-weights stage, which failed already.
+    const bool addsMovable =
+        std::any_of(raised.begin(), raised.end(),
+                    [&](size_t i) { return i < frame.movable.size() && frame.movable[i]; });
+    if (nothingBelowFloor || (stage == TrackingFallback::StillMovable && !addsMovable))
         return false;  // nothing would change
     const std::vector<float> weights = frame.weights;
-    for (size_t i = 0; i < frame.weights.size(); ++i)
-        if (frame.movable.empty() || !frame.movable[i])
-            frame.weights[i] = std::max(frame.weights[i], floor);
+    for (const size_t i : raised)
+        frame.weights[i] = floor;
     const bool ok =
         trackWithMotionModel(frame, velocity_ ? *velocity_ : Eigen::Isometry3d::Identity()) &&
         trackLocalMap(frame);
@@ -398,8 +429,9 @@ bool Tracker::trackWithRaisedWeights(Frame& frame)
     // start no map point and carry no weight in bundle adjustment.
     frame.weights = weights;
     if (ok)
-        MRPT_LOG_DEBUG_FMT("frame %lu tracked with raised weights (%d inliers)",
-                           static_cast<unsigned long>(frame.id), frame.countMatches());
+        MRPT_LOG_DEBUG_FMT("frame %lu tracked by the %s fallback (%d inliers)",
+                           static_cast<unsigned long>(frame.id), toString(stage).c_str(),
+                           frame.countMatches());
     return ok;
 }
 

@@ -33,8 +33,13 @@ struct Frame
     /// for tracking, but nothing shows that it is static.
     std::vector<bool> mappable;
     /// Per keypoint (empty: none): on a region of a movable class (semantic evidence). Such a
-    /// keypoint has weight 0 that no fallback raises: a person is not a landmark, moving or not.
+    /// keypoint has weight 0 that only the last fallback raises: a person is not a landmark,
+    /// moving or not.
     std::vector<bool> movable;
+    /// Per keypoint (empty: none): movable, and found still by the motion evidence. The last
+    /// tracking fallback (TrackingFallback::StillMovable) lets these carry a little weight;
+    /// they never start map points.
+    std::vector<bool> stillMovable;
     std::vector<std::shared_ptr<MapPoint>> points;  ///< matched map point or null
     std::vector<bool> outlier;
     Eigen::Isometry3d T_cam_world = Eigen::Isometry3d::Identity();

@@ -37,6 +37,19 @@ enum class TrackingStatus
     Odometry
 };
 std::string toString(TrackingStatus s);
+
+/// How a frame was tracked when the outside weights alone did not hold its pose ([tracking]
+/// fallback_weight): each stage is tried only when the one before failed.
+enum class TrackingFallback
+{
+    None,           ///< the outside weights held the pose, or no fallback did
+    RaisedWeights,  ///< every keypoint outside movable regions weighted at least fallback_weight
+    /// As RaisedWeights, plus the keypoints of movable regions that the motion evidence found
+    /// still: where people fill the view a stale or grown mask can cover most of the background.
+    StillMovable,
+};
+/// "", "raised_weights", "still_movable" (frames.csv's fallback column).
+std::string toString(TrackingFallback f);
 inline bool hasPose(TrackingStatus s)
 {
     return s == TrackingStatus::Initialised || s == TrackingStatus::Ok ||
@@ -67,9 +80,9 @@ struct TrackingResult
     /// When this frame started the map: the earlier frame (not initialised when it came) that
     /// the outside odometry placed relative to it; its record now has status Odometry.
     std::optional<uint64_t> posedEarlierFrameId;
-    /// Tracked only once the dynamic filter's weights were raised ([tracking] fallback_weight):
-    /// too few keypoints it judged static matched the map.
-    bool raisedWeights = false;
+    /// Tracked only by a fallback ([tracking] fallback_weight): too few keypoints the outside
+    /// judged static matched the map.
+    TrackingFallback fallback = TrackingFallback::None;
 };
 
 class Tracker : public mrpt::system::COutputLogger
@@ -106,7 +119,7 @@ private:
     {
         bool ok = false;
         bool relocalised = false;
-        bool raisedWeights = false;  ///< only trackWithRaisedWeights succeeded
+        TrackingFallback fallback = TrackingFallback::None;  ///< the stage that succeeded
     };
 
     /// NotInitialised: the frame starts the map when it has enough depth.
@@ -134,8 +147,10 @@ private:
     int poseFromReferenceKeyFrame(Frame& frame, const Eigen::Isometry3d& T_cam_world_guess);
     /// When tracking failed with the outside weights: once more from the last frame with every
     /// weight raised to at least fallback_weight (0 disables), since the map points are
-    /// static, keypoints the outside excluded by mistake can match them.
-    bool trackWithRaisedWeights(Frame& frame);
+    /// static, keypoints the outside excluded by mistake can match them. Keypoints of movable
+    /// regions stay out, unless `stage` is StillMovable and the motion evidence found them still
+    /// (Frame::stillMovable). False when the stage would change no weight.
+    bool trackWithRaisedWeights(Frame& frame, TrackingFallback stage);
     bool relocalise(Frame& frame);
     /// Adds `frame` as a keyframe at its current pose with points from its depth (the first
     /// keyframe, or a re-anchor); false when it has fewer than `min_points` usable depths.
