@@ -231,16 +231,15 @@ void SemanticMapper::markMovable(const std::vector<bool>& movable, PreparedFrame
     f.movable = movable;
     if (f.weights.size() != n)
         f.weights.assign(n, 1.0F);
-    // Still: the motion evidence left it a weight before the semantic evidence takes it.
     f.stillMovable.assign(n, false);
-    for (size_t i = 0; i < n; ++i)
-        f.stillMovable[i] = movable[i] && f.weights[i] > 0.0F;
     if (f.mappable.size() != n)
         f.mappable.assign(n, true);
     for (size_t i = 0; i < n; ++i)
     {
         if (!movable[i])
             continue;
+        // Still: the motion evidence left it a weight before the semantic evidence takes it.
+        f.stillMovable[i] = f.weights[i] > 0.0F;
         f.weights[i] = 0.0F;
         f.mappable[i] = false;
         if (i < frame.dynamic.keypoints.size())

@@ -400,24 +400,24 @@ bool Tracker::trackWithRaisedWeights(Frame& frame, TrackingFallback stage)
     if (params_.fallback_weight <= 0.0 || !last_)
         return false;
     const auto floor = static_cast<float>(params_.fallback_weight);
-    auto raises = [&](size_t i)
+    // What this stage raises: every keypoint below the floor outside movable regions, and at
+    // the last stage the still ones inside them.
+    std::vector<size_t> raised;
+    bool anyBelowFloor = false, raisesMovable = false;
+    for (size_t i = 0; i < frame.weights.size(); ++i)
     {
+        if (frame.weights[i] >= floor)
+            continue;
+        anyBelowFloor = true;
         const bool movable = i < frame.movable.size() && frame.movable[i];
         const bool still = i < frame.stillMovable.size() && frame.stillMovable[i];
-        return frame.weights[i] < floor &&
-               (!movable || (stage == TrackingFallback::StillMovable && still));
-    };
-    std::vector<size_t> raised;
-    for (size_t i = 0; i < frame.weights.size(); ++i)
-        if (raises(i))
-            raised.push_back(i);
-    const bool nothingBelowFloor = std::all_of(frame.weights.begin(), frame.weights.end(),
-                                               [floor](float w) { return w >= floor; });
+        if (movable && !(stage == TrackingFallback::StillMovable && still))
+            continue;
+        raised.push_back(i);
+        raisesMovable = raisesMovable || movable;
+    }
     // The still-movable stage only adds to the raised-weights stage, which failed already.
-    const bool addsMovable =
-        std::any_of(raised.begin(), raised.end(),
-                    [&](size_t i) { return i < frame.movable.size() && frame.movable[i]; });
-    if (nothingBelowFloor || (stage == TrackingFallback::StillMovable && !addsMovable))
+    if (!anyBelowFloor || (stage == TrackingFallback::StillMovable && !raisesMovable))
         return false;  // nothing would change
     const std::vector<float> weights = frame.weights;
     for (const size_t i : raised)
