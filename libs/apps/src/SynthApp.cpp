@@ -58,7 +58,7 @@ std::string SynthApp::usage()
            "                seated (in place, swaying), stop_and_stay (walks in, stands 5 s,\n"
            "                walks on, stands again); it sets the default --people-count\n"
            "  --distance-scale F  multiplies how far ahead of the camera the people walk\n"
-           "                (default 1; e.g. 1.4 for a crowd that covers about half the view)\n"
+           "                (default 1; 1.7 puts the crowd on up to about half the view)\n"
            "  --ground-truth F  the colour camera's poses to place the people with (default\n"
            "                TUM_DIR/groundtruth.txt; for 7-Scenes TUM_DIR/groundtruth_sfm.txt,\n"
            "                whose poses are the colour camera's); also the output's ground truth\n"
@@ -218,9 +218,7 @@ core::PinholeCamera compositeOnto(const CommandLine& cl, size_t frames, uint32_t
     sim::CompositeLayout layout;
     layout.scenario = sim::compositeScenarioFromString(cl.value("scenario").value_or("random"));
     layout.distanceScale = cl.number("distance-scale", layout.distanceScale);
-    if (!(layout.distanceScale > 0.0 && layout.distanceScale <= 10.0))
-        throw core::InputError(
-            mrpt::format("--distance-scale %g must be in (0, 10]", layout.distanceScale));
+    layout.validate();  // before the frames are read
     const long count =
         cl.integer("people-count", static_cast<long>(sim::defaultPeopleCount(layout.scenario)));
     if (count < 1 || count > 8)

@@ -53,6 +53,13 @@ std::string toString(CompositeScenario s)
     return "random";
 }
 
+void CompositeLayout::validate() const
+{
+    if (!(distanceScale > 0.0 && distanceScale <= 10.0))
+        throw core::InputError(
+            mrpt::format("compositing: distance scale %g must be in (0, 10]", distanceScale));
+}
+
 size_t defaultPeopleCount(CompositeScenario s)
 {
     switch (s)
@@ -357,9 +364,7 @@ PeopleCompositor::PeopleCompositor(const std::vector<cv::Mat>& sprites,
 {
     if (sprites.empty() || T_world_cam.empty() || probes.empty())
         throw core::InputError("compositing needs cut-outs, a ground-truth trajectory and a frame");
-    if (!(layout.distanceScale > 0.0 && layout.distanceScale <= 10.0))
-        throw core::InputError(mrpt::format("compositing: distance scale %g must be in (0, 10]",
-                                            layout.distanceScale));
+    layout.validate();
     const Eigen::Vector3d prior = upPrior(T_world_cam);
     std::vector<Eigen::Vector3d> points = probeWorldPoints(probes);
     constexpr size_t kMinFloorPoints = 200;

@@ -42,6 +42,9 @@ struct CompositeLayout
     /// camera's view projected on the floor), so that the same motion covers less of the view
     /// (larger) or more (smaller). In (0, 10].
     double distanceScale = 1.0;
+
+    /// Throws InputError (naming the distance scale) when a value is out of range.
+    void validate() const;
 };
 
 struct CompositedPerson
