@@ -11,11 +11,28 @@ namespace
 {
 constexpr int kCell = 8;
 
-/// Per 8 px cell of a frame: how many of its keypoints are labelled, how many movable.
+using Label = MovableLabelTracker::Label;
+using Motion = MovableLabelTracker::Motion;
+
+/// Labelled keypoints of a cell (or of 3 x 3 cells): how many, how many movable.
+struct LabelCount
+{
+    int known = 0, movable = 0;
+
+    LabelCount& operator+=(const LabelCount& o)
+    {
+        known += o.known;
+        movable += o.movable;
+        return *this;
+    }
+};
+
+/// Per 8 px cell of a frame: its labelled keypoints, all and those the flow test did not see
+/// moving, and the nearest movable keypoint's depth.
 struct LabelCells
 {
     int cols = 0, rows = 0;
-    std::vector<int> known, movable;
+    std::vector<LabelCount> all, still;
     std::vector<float> nearest;  ///< nearest movable keypoint (m)
 
     size_t index(int cx, int cy) const
@@ -23,61 +40,64 @@ struct LabelCells
         return static_cast<size_t>(cy) * static_cast<size_t>(cols) + static_cast<size_t>(cx);
     }
 
-    LabelCells(const std::vector<cv::Point2f>& keypoints, const std::vector<float>& depth,
-               const std::vector<MovableLabelTracker::Label>& labels)
+    explicit LabelCells(const MovableLabelTracker::FrameTracks& t, const std::vector<Label>& labels)
     {
-        for (const auto& p : keypoints)
+        for (const auto& p : t.keypoints)
         {
             cols = std::max(cols, static_cast<int>(p.x) / kCell + 1);
             rows = std::max(rows, static_cast<int>(p.y) / kCell + 1);
         }
-        known.assign(static_cast<size_t>(cols) * static_cast<size_t>(rows), 0);
-        movable.assign(known.size(), 0);
-        nearest.assign(known.size(), std::numeric_limits<float>::max());
-        for (size_t i = 0; i < keypoints.size(); ++i)
-        {
-            if (labels[i] == MovableLabelTracker::Label::Unknown || !(keypoints[i].x >= 0.0F) ||
-                !(keypoints[i].y >= 0.0F))
-                continue;
-            const size_t c = index(static_cast<int>(keypoints[i].x) / kCell,
-                                   static_cast<int>(keypoints[i].y) / kCell);
-            known[c]++;
-            if (labels[i] != MovableLabelTracker::Label::Movable)
-                continue;
-            movable[c]++;
-            if (i < depth.size() && depth[i] > 0.0F)
-                nearest[c] = std::min(nearest[c], depth[i]);
-        }
+        all.assign(static_cast<size_t>(cols) * static_cast<size_t>(rows), LabelCount{});
+        still = all;
+        nearest.assign(all.size(), std::numeric_limits<float>::max());
+        for (size_t i = 0; i < t.keypoints.size(); ++i)
+            add(t, labels, i);
     }
 
-    /// The majority label of the 3 x 3 cells around pixel p, for a keypoint at depth z (<= 0:
-    /// unknown): Static when it lies more than `margin` behind the nearest movable keypoint
-    /// there (a mask's edge often takes in some background; never the other way round).
-    MovableLabelTracker::Label at(const cv::Point2f& p, float z, float margin) const
+    void add(const MovableLabelTracker::FrameTracks& t, const std::vector<Label>& labels, size_t i)
+    {
+        const cv::Point2f& p = t.keypoints[i];
+        if (labels[i] == Label::Unknown || !(p.x >= 0.0F) || !(p.y >= 0.0F))
+            return;
+        const size_t c = index(static_cast<int>(p.x) / kCell, static_cast<int>(p.y) / kCell);
+        const LabelCount one{1, labels[i] == Label::Movable ? 1 : 0};
+        all[c] += one;
+        if (i < t.motion.size() && t.motion[i] == Motion::Still)
+            still[c] += one;
+        if (one.movable != 0 && i < t.depth.size() && t.depth[i] > 0.0F)
+            nearest[c] = std::min(nearest[c], t.depth[i]);
+    }
+
+    /// The label a keypoint takes whose track reaches pixel p, at depth z (<= 0: unknown),
+    /// moving or not: the majority of the 3 x 3 cells around p. A still keypoint counts only
+    /// the keypoints there that were not moving either: background a walker uncovers stays
+    /// background, a person standing still stays a person. Static when it lies more than
+    /// `margin` behind the nearest movable keypoint there (a mask's edge often takes in some
+    /// background; never the other way round).
+    Label at(const cv::Point2f& p, float z, Motion motion, float margin) const
     {
         if (!(p.x >= 0.0F) || !(p.y >= 0.0F))
-            return MovableLabelTracker::Label::Unknown;
+            return Label::Unknown;
         const int cx = static_cast<int>(p.x) / kCell, cy = static_cast<int>(p.y) / kCell;
-        int k = 0, m = 0;
+        const std::vector<LabelCount>& counts = motion == Motion::Still ? still : all;
+        LabelCount n;
         float near = std::numeric_limits<float>::max();
         for (int y = std::max(cy - 1, 0); y <= std::min(cy + 1, rows - 1); ++y)
         {
             for (int x = std::max(cx - 1, 0); x <= std::min(cx + 1, cols - 1); ++x)
             {
-                const size_t c = index(x, y);
-                k += known[c];
-                m += movable[c];
-                near = std::min(near, nearest[c]);
+                n += counts[index(x, y)];
+                near = std::min(near, nearest[index(x, y)]);
             }
         }
-        if (k == 0)
-            return MovableLabelTracker::Label::Unknown;
+        if (n.known == 0)
+            return Label::Unknown;
         // A strict majority: at half (a person's edge) more background is lost to people than
         // people to background (measured on the walking presets), and the flow test covers
         // the edges of movers.
-        if (2 * m <= k || (z > 0.0F && z > near + margin))
-            return MovableLabelTracker::Label::Static;
-        return MovableLabelTracker::Label::Movable;
+        if (2 * n.movable <= n.known || (z > 0.0F && z > near + margin))
+            return Label::Static;
+        return Label::Movable;
     }
 };
 }  // namespace
@@ -118,10 +138,11 @@ void MovableLabelTracker::labelFromReference(Kept& frame) const
     const Kept* ref = find(t.frameId - t.framesBack);
     if (!ref || ref->labels.empty())
         return;
-    const LabelCells cells(ref->tracks.keypoints, ref->tracks.depth, ref->labels);
+    const LabelCells cells(ref->tracks, ref->labels);
     for (size_t i = 0; i < t.keypoints.size() && i < t.inReference.size(); ++i)
         frame.labels[i] =
-            cells.at(t.inReference[i], i < t.depth.size() ? t.depth[i] : 0.0F, depthMargin_);
+            cells.at(t.inReference[i], i < t.depth.size() ? t.depth[i] : 0.0F,
+                     i < t.motion.size() ? t.motion[i] : Motion::Untracked, depthMargin_);
 }
 
 const std::vector<MovableLabelTracker::Label>& MovableLabelTracker::add(FrameTracks frame)
@@ -150,5 +171,33 @@ void MovableLabelTracker::setMask(uint64_t frameId, const cv::Mat& image)
         else if (id > frameId)
             labelFromReference(k);
     }
+}
+
+cv::Mat MovableLabelTracker::movingParts(uint64_t frameId, const cv::Mat& image) const
+{
+    CV_Assert(image.type() == CV_8UC1);
+    cv::Mat moving = cv::Mat::zeros(image.size(), CV_8UC1);
+    const Kept* k = find(frameId);
+    if (!k)
+        return moving;
+    cv::Mat parts;
+    const int n = cv::connectedComponents(image != 0, parts, 8, CV_32S);
+    std::vector<int> movingCount(static_cast<size_t>(n), 0), tracked(static_cast<size_t>(n), 0);
+    const FrameTracks& t = k->tracks;
+    for (size_t i = 0; i < t.keypoints.size() && i < t.motion.size(); ++i)
+    {
+        const long u = std::lround(t.keypoints[i].x), v = std::lround(t.keypoints[i].y);
+        if (u < 0 || v < 0 || u >= image.cols || v >= image.rows ||
+            t.motion[i] == Motion::Untracked)
+            continue;
+        const auto part =
+            static_cast<size_t>(parts.at<int>(static_cast<int>(v), static_cast<int>(u)));
+        tracked[part]++;
+        movingCount[part] += t.motion[i] == Motion::Moving ? 1 : 0;
+    }
+    for (int part = 1; part < n; ++part)
+        if (3 * movingCount[static_cast<size_t>(part)] > 2 * tracked[static_cast<size_t>(part)])
+            moving.setTo(255, parts == part);
+    return moving;
 }
 }  // namespace smap::dynamic

@@ -75,8 +75,28 @@ MovableMask::MovableMask(uint64_t frameId, const Eigen::Isometry3d& T_world_cam,
                 continue;
             points_cam_.push_back(camera.unproject(u, v, z).cast<float>());
             footprint_.push_back(static_cast<float>(step) * z);
+            pixels_.emplace_back(u, v);
         }
     }
+}
+
+MovableMask MovableMask::without(const cv::Mat& drop) const
+{
+    CV_Assert(drop.type() == CV_8UC1 && drop.size() == image_.size());
+    MovableMask kept;
+    kept.frameId_ = frameId_;
+    kept.T_world_keyframe_ = T_world_keyframe_;
+    kept.image_ = image_.clone();
+    kept.image_.setTo(0, drop);
+    for (size_t i = 0; i < pixels_.size(); ++i)
+    {
+        if (drop.at<uint8_t>(pixels_[i]) != 0)
+            continue;
+        kept.points_cam_.push_back(points_cam_[i]);
+        kept.footprint_.push_back(footprint_[i]);
+        kept.pixels_.push_back(pixels_[i]);
+    }
+    return kept;
 }
 
 MovableCells MovableMask::project(const Eigen::Isometry3d& T_world_cam,

@@ -162,33 +162,42 @@ std::vector<bool> SemanticMapper::movableKeypoints(const PreparedFrame& frame,
     tracks.framesBack = frame.dynamic.framesBack;
     tracks.keypoints.reserve(kps.size());
     tracks.inReference.assign(kps.size(), cv::Point2f(-1.0F, -1.0F));
+    tracks.motion.assign(kps.size(), dynamic::MovableLabelTracker::Motion::Untracked);
     tracks.depth = frame.features.features.depth;
     for (size_t i = 0; i < kps.size(); ++i)
     {
         tracks.keypoints.push_back(kps[i].pt);
-        if (i < frame.dynamic.keypoints.size())
-            tracks.inReference[i] = frame.dynamic.keypoints[i].inReference;
+        if (i >= frame.dynamic.keypoints.size())
+            continue;
+        const dynamic::KeypointEvidence& e = frame.dynamic.keypoints[i];
+        tracks.inReference[i] = e.inReference;
+        if (e.residual >= 0.0F)
+            tracks.motion[i] = e.flow ? dynamic::MovableLabelTracker::Motion::Moving
+                                      : dynamic::MovableLabelTracker::Motion::Still;
     }
     if (mask && (!labelledMask_ || *labelledMask_ != mask->frameId()))
     {
         labelTracker_.setMask(mask->frameId(), mask->image());
         labelledMask_ = mask->frameId();
+        stillMask_ = std::make_shared<const dynamic::MovableMask>(
+            mask->without(labelTracker_.movingParts(mask->frameId(), mask->image())));
     }
     const std::vector<dynamic::MovableLabelTracker::Label>& labels =
         labelTracker_.add(std::move(tracks));
     std::vector<bool> movable(kps.size(), false);
     if (!mask)
         return movable;
-    // Keypoints whose track reaches no labelled keypoint: the mask warped by the camera pose
-    // (right for people who stand still), within the depth of the people there.
+    // Keypoints whose track reaches no labelled keypoint: the mask warped by the camera pose,
+    // within the depth of the people there. Only its people who were still on the keyframe: the
+    // warp is right for them, while a walker soon leaves it and the labels follow them instead.
     const dynamic::SemanticEvidenceParameters& se = params_.semanticEvidence;
     dynamic::MovableCells cells;
     const std::optional<Eigen::Isometry3d> T_world_cam = predictPose(framesTracked_);
-    if (T_world_cam && !mask->empty())
-        cells =
-            mask->project(*T_world_cam, frame.rgbd.camera,
-                          std::min(se.max_dilation_px,
-                                   se.dilation_px + se.age_dilation_px * static_cast<double>(age)));
+    if (T_world_cam && stillMask_ && !stillMask_->empty())
+        cells = stillMask_->project(
+            *T_world_cam, frame.rgbd.camera,
+            std::min(se.max_dilation_px,
+                     se.dilation_px + se.age_dilation_px * static_cast<double>(age)));
     const slam::Frame& f = frame.features;
     const auto margin = static_cast<float>(se.depth_margin);
     for (size_t i = 0; i < kps.size(); ++i)

@@ -2,8 +2,11 @@
 // keyframe (and of the frame or two before it), and every later frame's keypoints take the label
 // of where the strong dynamic filter's Lucas-Kanade found them in their reference frame (the
 // majority of that frame's labelled keypoints in the 3 x 3 cells of 8 px around), unless it lies
-// farther than the nearest movable keypoints there (background a person uncovered). A walking
-// person's label walks with them, which a mask warped by the camera pose alone cannot do.
+// farther than the nearest movable keypoints there (background a person uncovered). A keypoint
+// the flow test found still counts only the keypoints there that were still too: background a
+// walker uncovers at the walker's own depth stays background, a person who stands still stays a
+// person. A walking person's label walks with them, which a mask warped by the camera pose alone
+// cannot do.
 #pragma once
 
 #include <cstdint>
@@ -22,6 +25,13 @@ public:
         Static = 0,
         Movable = 1
     };
+    /// What the flow test said of a keypoint in its own frame.
+    enum class Motion : uint8_t
+    {
+        Untracked,  ///< no flow measurement
+        Still,
+        Moving
+    };
 
     /// Keeps the last `keep` frames (at least the masks' largest age plus the filter's gap). A
     /// keypoint farther than `depthMargin` (m) behind the nearest movable keypoint its track
@@ -35,6 +45,7 @@ public:
         std::vector<cv::Point2f> keypoints;    ///< pixel positions
         std::vector<cv::Point2f> inReference;  ///< per keypoint; negative: not tracked
         std::vector<float> depth;              ///< per keypoint (m; <= 0: none)
+        std::vector<Motion> motion;            ///< per keypoint (missing: Untracked)
     };
     /// Adds the newest frame (increasing ids) and labels its keypoints from its reference
     /// frame; returns the labels (all Unknown when the reference has none).
@@ -44,6 +55,11 @@ public:
     /// kept frames from two before it up to it from the image, then each later kept frame
     /// from its reference, in order.
     void setMask(uint64_t frameId, const cv::Mat& image);
+
+    /// The parts (connected regions) of a kept frame's mask (CV_8UC1, non-zero = movable) where
+    /// the flow test found more than two thirds of the keypoints it measured moving, on that
+    /// frame: CV_8UC1, 255 there; all 0 when the frame is not kept.
+    cv::Mat movingParts(uint64_t frameId, const cv::Mat& image) const;
 
 private:
     struct Kept

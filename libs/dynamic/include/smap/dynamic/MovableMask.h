@@ -2,7 +2,7 @@
 // class (a person), kept as 3-D samples in the keyframe's camera frame so that they can be
 // warped into any later frame by its pose. A person who stands still stays where the warp puts
 // them; one who walks drifts from it, which the dilation (growing with the mask's age) and the
-// flow test cover.
+// flow test cover, or without() leaves them out.
 #pragma once
 
 #include <Eigen/Geometry>
@@ -50,6 +50,10 @@ public:
     bool empty() const { return points_cam_.empty(); }
     size_t samples() const { return points_cam_.size(); }
 
+    /// The same mask without the pixels non-zero in `drop` (CV_8UC1 at the keyframe's
+    /// resolution).
+    MovableMask without(const cv::Mat& drop) const;
+
     /// The mask seen from a camera at T_world_cam (`camera`'s size), grown by `dilationPx`
     /// (cells and depth ranges).
     MovableCells project(const Eigen::Isometry3d& T_world_cam, const core::PinholeCamera& camera,
@@ -61,5 +65,6 @@ private:
     Eigen::Isometry3d T_world_keyframe_ = Eigen::Isometry3d::Identity();
     std::vector<Eigen::Vector3f> points_cam_;  ///< in the keyframe's camera frame
     std::vector<float> footprint_;             ///< px each sample covers in the keyframe (x z)
+    std::vector<cv::Point> pixels_;            ///< where each sample is in the keyframe
 };
 }  // namespace smap::dynamic

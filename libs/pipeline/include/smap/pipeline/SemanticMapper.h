@@ -135,6 +135,8 @@ private:
     MaskBoard maskBoard_;  ///< before worker_, which closes it when destroyed
     dynamic::MovableLabelTracker labelTracker_;
     std::optional<uint64_t> labelledMask_;  ///< keyframe of the mask the tracker has
+    /// That mask without the people who were walking on its keyframe: the one warped by pose.
+    std::shared_ptr<const dynamic::MovableMask> stillMask_;
     std::unique_ptr<KeyFrameWorker> worker_;
     uint64_t framesTracked_ = 0;  ///< = the tracker's id of the next frame
     /// The last tracked poses (tracker frame id, T_world_cam), newest last.
