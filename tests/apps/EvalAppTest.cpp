@@ -79,6 +79,44 @@ TEST(EvalApp, RpeAndArgumentErrors)
                  core::InputError);
 }
 
+TEST(EvalApp, KeypointsSaysWhereTheFalsePositivesAre)
+{
+    test::TempDir dir;
+    std::filesystem::create_directories(dir / "masks");
+    std::filesystem::create_directories(dir / "debug");
+    // Columns 0-4 of a 20 x 20 image are a person.
+    cv::Mat mask(20, 20, CV_8UC1, cv::Scalar(0));
+    mask.colRange(0, 5).setTo(255);
+    ASSERT_TRUE(cv::imwrite(dir / "masks/000001.png", mask));
+    writeFile(dir / "debug/000001.csv",
+              "u,v,depth_m,residual_px,patch_error,flow,depth_test,region,isolated,was_dynamic,"
+              "semantic,dynamic\n"
+              "2,2,1,9,1,1,0,0,0,0,1,1\n"      // true positive
+              "5,8,1,0.5,1,0,0,1,0,0,0,1\n"    // 1 px from the person, by region growing
+              "6,3,1,9,1,1,0,0,0,0,1,1\n"      // 2 px, by flow (and semantic evidence)
+              "15,10,1,0.5,1,0,0,0,0,0,1,1\n"  // 11 px, by semantic evidence alone
+              "18,18,1,0.5,1,0,0,0,0,0,0,0\n");
+    std::ostringstream out;
+    apps::EvalApp app;
+    ASSERT_EQ(app.run({"keypoints", dir / "masks", dir / "debug", "--json", dir / "k.json"}, out),
+              0);
+    EXPECT_NE(out.str().find("recall 1.0000  precision 0.2500  (tp 1 fp 3 fn 0 tn 1)"),
+              std::string::npos)
+        << out.str();
+    EXPECT_NE(out.str().find("<= 1.5 px 1, 1.5-3 px 1, 3-10 px 0, 10-50 px 1, farther 0"),
+              std::string::npos)
+        << out.str();
+    EXPECT_NE(out.str().find("flow 1, depth 0, region 1, semantic only 1, other 0"),
+              std::string::npos)
+        << out.str();
+    // Only the two outline false positives left: 1 / (1 + 2).
+    EXPECT_NE(out.str().find("within 3 px of a mask remained: 0.3333"), std::string::npos)
+        << out.str();
+    const std::string json = test::readTextFile(dir / "k.json");
+    EXPECT_NE(json.find("\"up_to_50_px\": 1"), std::string::npos) << json;
+    EXPECT_NE(json.find("\"semantic_only\": 1"), std::string::npos) << json;
+}
+
 TEST(EvalApp, KeypointsScoresDecisionsAgainstMasks)
 {
     test::TempDir dir;

@@ -30,6 +30,24 @@ void writeJson(const std::string& path, const core::JsonValue& j)
     f.commit();
 }
 
+/// Where the false positives of a keypoint score are, and the precision the outline corners
+/// alone would leave.
+void printFalsePositives(const eval::KeypointDetectionScore& s, std::ostream& out)
+{
+    const auto& d = s.falsePositivesByDistance;
+    const auto& e = s.falsePositivesByEvidence;
+    out << mrpt::format(
+        "false positives by distance from a mask: <= 1.5 px %zu, 1.5-3 px %zu, "
+        "3-10 px %zu, 10-50 px %zu, farther %zu\n",
+        d[0], d[1], d[2], d[3], d[4]);
+    out << mrpt::format(
+        "false positives by evidence: flow %zu, depth %zu, region %zu, "
+        "semantic only %zu, other %zu\n",
+        e[0], e[1], e[2], e[3], e[4]);
+    out << mrpt::format("precision if only those within 3 px of a mask remained: %.4f\n",
+                        s.precisionWithin(3.0));
+}
+
 /// smap-eval keypoints: every DEBUG_DIR/*.csv against MASK_DIR/<same stem>.png.
 int scoreKeypoints(const std::string& maskDir, const std::string& debugDir, int edgeMargin,
                    const std::optional<std::string>& json, std::ostream& out)
@@ -64,6 +82,7 @@ int scoreKeypoints(const std::string& maskDir, const std::string& debugDir, int 
         out << mrpt::format("  left out within %d px of a mask edge: %zu", edgeMargin,
                             total.nearEdge);
     out << "\n";
+    printFalsePositives(total, out);
     if (json)
         writeJson(*json, total.toJson());
     return kExitOk;
@@ -153,7 +172,9 @@ std::string EvalApp::usage()
            "  tables (DEBUG_DIR/NNNNNN.csv) against ground-truth masks (MASK_DIR/NNNNNN.png,\n"
            "  e.g. the dynamic/ folder smap-synth writes). --edge-margin PX leaves out the\n"
            "  keypoints within PX of a mask edge (default 0: all scored), whose label is a coin\n"
-           "  flip for a corner on an outline.\n"
+           "  flip for a corner on an outline. Then where the false positives are: by distance\n"
+           "  from the nearest mask pixel and by the evidence that decided them, and the\n"
+           "  precision if only the outline corners within 3 px of a mask were false.\n"
            "segmentation: the paper's Table III per-class frame scores (TP/FN/FP/TN, FPR, FNR,\n"
            "  Re, Pr, PWC; correctly segmented = IoU >= --iou-threshold, default 0.5), pixel IoU\n"
            "  and IoU within --band px (default 5) of true class edges, for every PRED_DIR/*.png\n"

@@ -29,6 +29,10 @@ KeypointDetectionScore& KeypointDetectionScore::operator+=(const KeypointDetecti
     trueNegatives += o.trueNegatives;
     frames += o.frames;
     nearEdge += o.nearEdge;
+    for (size_t k = 0; k < falsePositivesByDistance.size(); ++k)
+        falsePositivesByDistance[k] += o.falsePositivesByDistance[k];
+    for (size_t k = 0; k < falsePositivesByEvidence.size(); ++k)
+        falsePositivesByEvidence[k] += o.falsePositivesByEvidence[k];
     return *this;
 }
 
@@ -44,6 +48,15 @@ double KeypointDetectionScore::precision() const
     return n == 0 ? 1.0 : static_cast<double>(truePositives) / static_cast<double>(n);
 }
 
+double KeypointDetectionScore::precisionWithin(double px) const
+{
+    size_t kept = 0;
+    for (size_t k = 0; k < kDistanceBands.size() && kDistanceBands[k] <= px; ++k)
+        kept += falsePositivesByDistance[k];
+    const size_t n = truePositives + kept;
+    return n == 0 ? 1.0 : static_cast<double>(truePositives) / static_cast<double>(n);
+}
+
 core::JsonValue KeypointDetectionScore::toJson() const
 {
     auto j = core::JsonValue::object();
@@ -54,8 +67,74 @@ core::JsonValue KeypointDetectionScore::toJson() const
         .set("true_negatives", static_cast<double>(trueNegatives));
     j.set("left_out_near_mask_edges", static_cast<double>(nearEdge));
     j.set("recall", recall()).set("precision", precision());
+    auto byDistance = core::JsonValue::object();
+    for (size_t k = 0; k < falsePositivesByDistance.size(); ++k)
+        byDistance.set(k < kDistanceBands.size() ? mrpt::format("up_to_%g_px", kDistanceBands[k])
+                                                 : std::string("farther"),
+                       static_cast<double>(falsePositivesByDistance[k]));
+    j.set("false_positives_by_distance", std::move(byDistance));
+    auto byEvidence = core::JsonValue::object();
+    const char* names[] = {"flow", "depth", "region", "semantic_only", "other"};
+    for (size_t k = 0; k < falsePositivesByEvidence.size(); ++k)
+        byEvidence.set(names[k], static_cast<double>(falsePositivesByEvidence[k]));
+    j.set("false_positives_by_evidence", std::move(byEvidence));
+    j.set("precision_within_3_px", precisionWithin(3.0));
     return j;
 }
+
+namespace
+{
+using Evidence = KeypointDetectionScore::Evidence;
+
+/// The columns of an evidence table that say why a keypoint was decided dynamic (-1: absent).
+struct EvidenceColumns
+{
+    int flow = -1, depth = -1, region = -1, semantic = -1;
+
+    explicit EvidenceColumns(const std::string& header)
+    {
+        std::stringstream ss(header);
+        std::string name;
+        for (int i = 0; std::getline(ss, name, ','); ++i)
+        {
+            if (name == "flow")
+                flow = i;
+            else if (name == "depth_test")
+                depth = i;
+            else if (name == "region")
+                region = i;
+            else if (name == "semantic")
+                semantic = i;
+        }
+    }
+
+    Evidence of(const std::vector<std::string>& cells) const
+    {
+        const auto set = [&](int c)
+        { return c >= 0 && static_cast<size_t>(c) < cells.size() && cells[c] == "1"; };
+        if (set(flow))
+            return Evidence::Flow;
+        if (set(depth))
+            return Evidence::Depth;
+        if (set(region))
+            return Evidence::Region;
+        return set(semantic) ? Evidence::SemanticOnly : Evidence::Other;
+    }
+};
+
+/// Counts a false positive at pixel (x, y) by its distance from the mask and by its evidence.
+void countFalsePositive(KeypointDetectionScore& score, const cv::Mat& distance, int x, int y,
+                        Evidence evidence)
+{
+    const auto d = static_cast<double>(distance.at<float>(y, x));
+    size_t band = 0;
+    while (band < KeypointDetectionScore::kDistanceBands.size() &&
+           d > KeypointDetectionScore::kDistanceBands[band])
+        band++;
+    score.falsePositivesByDistance[band]++;
+    score.falsePositivesByEvidence[static_cast<size_t>(evidence)]++;
+}
+}  // namespace
 
 KeypointDetectionScore scoreKeypointFrame(const std::string& evidence_csv,
                                           const std::string& mask_png, int edge_margin)
@@ -87,6 +166,10 @@ KeypointDetectionScore scoreKeypointFrame(const std::string& evidence_csv,
         cv::erode(binary, shrunk, box, cv::Point(-1, -1), 1, cv::BORDER_REPLICATE);
         nearEdge = grown != shrunk;
     }
+    const EvidenceColumns columns(line);
+    // Distance (px) of each pixel from the nearest mask pixel (0 on the mask).
+    cv::Mat distance;
+    cv::distanceTransform(mask == 0, distance, cv::DIST_L2, cv::DIST_MASK_PRECISE);
     score.frames = 1;
     size_t row = 1;
     while (std::getline(in, line))
@@ -111,8 +194,11 @@ KeypointDetectionScore scoreKeypointFrame(const std::string& evidence_csv,
             score.nearEdge++;
             continue;
         }
-        score.add(mask.at<uint8_t>(static_cast<int>(y), static_cast<int>(x)) != 0,
-                  cells.back() == "1");
+        const bool truth = mask.at<uint8_t>(static_cast<int>(y), static_cast<int>(x)) != 0;
+        score.add(truth, cells.back() == "1");
+        if (!truth && cells.back() == "1")
+            countFalsePositive(score, distance, static_cast<int>(x), static_cast<int>(y),
+                               columns.of(cells));
     }
     return score;
 }

@@ -4,6 +4,8 @@
 // pixel outside the mask as inside, though it moves with the person either way.
 #pragma once
 
+#include <array>
+#include <cstdint>
 #include <string>
 
 #include "smap/core/JsonWriter.h"
@@ -16,10 +18,31 @@ struct KeypointDetectionScore
     size_t frames = 0;
     size_t nearEdge = 0;  ///< keypoints left out as within the edge margin of a mask edge
 
+    /// Where the false positives are: by distance (px) from the nearest mask pixel, up to
+    /// kDistanceBands[k] in band k, beyond the last in the last band.
+    static constexpr std::array<double, 4> kDistanceBands{1.5, 3.0, 10.0, 50.0};
+    std::array<size_t, kDistanceBands.size() + 1> falsePositivesByDistance{};
+    /// By the evidence that decided them, first that applies: the flow test, the depth test,
+    /// region growing, semantic evidence alone, anything else (a table without those columns).
+    enum class Evidence : uint8_t
+    {
+        Flow,
+        Depth,
+        Region,
+        SemanticOnly,
+        Other,
+        Count
+    };
+    std::array<size_t, static_cast<size_t>(Evidence::Count)> falsePositivesByEvidence{};
+
     void add(bool truth, bool said);
     KeypointDetectionScore& operator+=(const KeypointDetectionScore& o);
     double recall() const;     ///< 1 when there is nothing to find
     double precision() const;  ///< 1 when nothing was said
+    /// The precision if every false positive farther than `px` from a mask (one of
+    /// kDistanceBands) were not said: what deciding the outline corners by motion, which move
+    /// with the person, leaves at best.
+    double precisionWithin(double px) const;
     core::JsonValue toJson() const;
 };
 
@@ -28,6 +51,8 @@ struct KeypointDetectionScore
 /// same size as the image). A table marked "# not evaluated" scores nothing (frames = 0).
 /// `edge_margin` > 0 leaves out (counts in nearEdge) the keypoints whose (2 edge_margin + 1)
 /// square around their pixel holds both mask and non-mask pixels; 0 scores every keypoint.
+/// False positives are broken down by distance and by the table's evidence columns (flow,
+/// depth_test, region, semantic) where it has them.
 /// Throws core::InputError naming the file on unreadable or malformed input.
 KeypointDetectionScore scoreKeypointFrame(const std::string& evidence_csv,
                                           const std::string& mask_png, int edge_margin = 0);
