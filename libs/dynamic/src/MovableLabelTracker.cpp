@@ -27,8 +27,8 @@ struct LabelCount
     }
 };
 
-/// Per 8 px cell of a frame: its labelled keypoints, all and those the flow test did not see
-/// moving, and the nearest movable keypoint's depth.
+/// Per 8 px cell of a frame: its labelled keypoints, all and those the flow test found still,
+/// and the nearest movable keypoint's depth.
 struct LabelCells
 {
     int cols = 0, rows = 0;
@@ -70,7 +70,7 @@ struct LabelCells
 
     /// The label a keypoint takes whose track reaches pixel p, at depth z (<= 0: unknown),
     /// moving or not: the majority of the 3 x 3 cells around p. A still keypoint counts only
-    /// the keypoints there that were not moving either: background a walker uncovers stays
+    /// the keypoints there that were still too: background a walker uncovers stays
     /// background, a person standing still stays a person. Static when it lies more than
     /// `margin` behind the nearest movable keypoint there (a mask's edge often takes in some
     /// background; never the other way round).
