@@ -167,9 +167,9 @@ KeypointDetectionScore scoreKeypointFrame(const std::string& evidence_csv,
         nearEdge = grown != shrunk;
     }
     const EvidenceColumns columns(line);
-    // Distance (px) of each pixel from the nearest mask pixel (0 on the mask).
+    // Distance (px) of each pixel from the nearest mask pixel (0 on the mask), computed at the
+    // frame's first false positive.
     cv::Mat distance;
-    cv::distanceTransform(mask == 0, distance, cv::DIST_L2, cv::DIST_MASK_PRECISE);
     score.frames = 1;
     size_t row = 1;
     while (std::getline(in, line))
@@ -197,8 +197,12 @@ KeypointDetectionScore scoreKeypointFrame(const std::string& evidence_csv,
         const bool truth = mask.at<uint8_t>(static_cast<int>(y), static_cast<int>(x)) != 0;
         score.add(truth, cells.back() == "1");
         if (!truth && cells.back() == "1")
+        {
+            if (distance.empty())
+                cv::distanceTransform(mask == 0, distance, cv::DIST_L2, cv::DIST_MASK_PRECISE);
             countFalsePositive(score, distance, static_cast<int>(x), static_cast<int>(y),
                                columns.of(cells));
+        }
     }
     return score;
 }

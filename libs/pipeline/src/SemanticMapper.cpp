@@ -1,6 +1,7 @@
 #include "smap/pipeline/SemanticMapper.h"
 
 #include <map>
+#include <opencv2/core.hpp>
 
 #include "smap/core/Elapsed.h"
 
@@ -179,8 +180,10 @@ std::vector<bool> SemanticMapper::movableKeypoints(const PreparedFrame& frame,
     {
         labelTracker_.setMask(mask->frameId(), mask->image());
         labelledMask_ = mask->frameId();
-        stillMask_ = std::make_shared<const dynamic::MovableMask>(
-            mask->without(labelTracker_.movingParts(mask->frameId(), mask->image())));
+        const cv::Mat moving = labelTracker_.movingParts(mask->frameId(), mask->image());
+        stillMask_ = cv::countNonZero(moving) == 0
+                         ? mask
+                         : std::make_shared<const dynamic::MovableMask>(mask->without(moving));
     }
     const std::vector<dynamic::MovableLabelTracker::Label>& labels =
         labelTracker_.add(std::move(tracks));
