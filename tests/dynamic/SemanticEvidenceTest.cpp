@@ -1,6 +1,7 @@
 // Semantic evidence with known answers: a keyframe mask warped into a moved camera lands where
 // the geometry says, only at the people's depth; labels follow a walking person along the
-// Lucas-Kanade tracks and leave the background the person uncovers.
+// Lucas-Kanade tracks and leave the background the person uncovers; a still keypoint on a
+// clearly still person is movable whatever label its track carried.
 #include <gtest/gtest.h>
 
 #include <opencv2/core.hpp>
@@ -8,6 +9,7 @@
 #include "TestData.h"
 #include "smap/dynamic/MovableLabelTracker.h"
 #include "smap/dynamic/MovableMask.h"
+#include "smap/dynamic/MovableVerdict.h"
 
 using namespace smap;
 using dynamic::MovableLabelTracker;
@@ -223,10 +225,11 @@ TEST(MovableLabelTracker, MovingPartsAreTheMaskRegionsTheFlowSawMoving)
     cv::Mat image(480, 640, CV_8UC1, cv::Scalar(0));
     image(cv::Rect(100, 200, 60, 100)).setTo(255);
     image(cv::Rect(400, 200, 60, 100)).setTo(255);
-    const cv::Mat moving = tracker.movingParts(3, image);
+    const cv::Mat moving = tracker.movingParts(3, image, 2.0 / 3.0);
     EXPECT_EQ(cv::countNonZero(moving(cv::Rect(100, 200, 60, 100))), 60 * 100);
     EXPECT_EQ(cv::countNonZero(moving), 60 * 100) << "the seated person and the rest stay";
-    EXPECT_EQ(cv::countNonZero(tracker.movingParts(4, image)), 0) << "frame 4 is not kept";
+    EXPECT_EQ(cv::countNonZero(tracker.movingParts(4, image, 2.0 / 3.0)), 0)
+        << "frame 4 is not kept";
 }
 
 TEST(MovableMask, WithoutLeavesOutTheDroppedPixels)
@@ -245,4 +248,92 @@ TEST(MovableMask, WithoutLeavesOutTheDroppedPixels)
     EXPECT_TRUE(cells.contains(340.0F, 240.0F, 2.0F, 0.5F));
     drop.setTo(255);
     EXPECT_TRUE(mask.without(drop).empty());
+}
+
+TEST(MovableLabelTracker, ALowerFractionTakesInASwayingPerson)
+{
+    // Frame 3: a person at x 100-159 of whom half the measured keypoints moved (swaying), one
+    // at x 400-459 who stood still.
+    MovableLabelTracker tracker(10, 0.5);
+    MovableLabelTracker::FrameTracks t;
+    t.frameId = 3;
+    for (float u = 105.0F; u < 460.0F; u += 10.0F)
+    {
+        for (float v = 205.0F; v < 300.0F; v += 10.0F)
+        {
+            t.keypoints.emplace_back(u, v);
+            t.depth.push_back(2.0F);
+            t.inReference.emplace_back(u, v);
+            const bool sways = u < 200.0F && static_cast<int>(v) % 20 == 5;
+            t.motion.push_back(sways ? MovableLabelTracker::Motion::Moving
+                                     : MovableLabelTracker::Motion::Still);
+        }
+    }
+    tracker.add(t);
+    cv::Mat image(480, 640, CV_8UC1, cv::Scalar(0));
+    image(cv::Rect(100, 200, 60, 100)).setTo(255);
+    image(cv::Rect(400, 200, 60, 100)).setTo(255);
+    EXPECT_EQ(cv::countNonZero(tracker.movingParts(3, image, 2.0 / 3.0)), 0)
+        << "half moving is no walker";
+    const cv::Mat moving = tracker.movingParts(3, image, 0.34);
+    EXPECT_EQ(cv::countNonZero(moving(cv::Rect(100, 200, 60, 100))), 60 * 100);
+    EXPECT_EQ(cv::countNonZero(moving), 60 * 100) << "the still person stays clearly still";
+}
+
+namespace
+{
+/// Cells (8 px) marked over `box` (pixels), their nearest sample depth `z`.
+dynamic::MovableCells cellsOver(const cv::Rect& box, float z)
+{
+    dynamic::MovableCells c;
+    c.cells = cv::Mat(60, 80, CV_8UC1, cv::Scalar(0));
+    c.nearest = cv::Mat(60, 80, CV_32FC1, cv::Scalar(0.0F));
+    const cv::Rect inCells(box.x / 8, box.y / 8, box.width / 8, box.height / 8);
+    c.cells(inCells).setTo(1);
+    c.nearest(inCells).setTo(z);
+    return c;
+}
+}  // namespace
+
+TEST(MovableVerdict, AStillKeypointOnAClearlyStillPersonIsMovableWhateverItsLabel)
+{
+    using Label = MovableLabelTracker::Label;
+    using Motion = MovableLabelTracker::Motion;
+    dynamic::MovableEvidence e;
+    // The still person at x 320-383, 2 m away; the grown mask 40 px wider each side.
+    e.still = cellsOver(cv::Rect(320, 160, 64, 160), 2.0F);
+    e.grown = cellsOver(cv::Rect(280, 120, 144, 240), 2.0F);
+    struct Case
+    {
+        cv::Point2f at;
+        float z;
+        Label label;
+        Motion motion;
+        bool movable;
+        const char* why;
+    };
+    const std::vector<Case> cases = {
+        {{340, 200}, 2.0F, Label::Static, Motion::Still, true, "on the still person"},
+        {{340, 200}, 2.0F, Label::Static, Motion::Moving, false, "moving: its label decides"},
+        {{340, 200}, 2.0F, Label::Static, Motion::Untracked, false, "unmeasured: its label"},
+        {{300, 200}, 2.0F, Label::Static, Motion::Still, false, "only in the grown mask"},
+        {{340, 200}, 3.0F, Label::Static, Motion::Still, false, "behind the person"},
+        {{300, 200}, 2.0F, Label::Unknown, Motion::Still, true, "no label: the grown mask"},
+        {{100, 200}, 2.0F, Label::Unknown, Motion::Still, false, "no label, outside"},
+        {{100, 200}, 2.0F, Label::Movable, Motion::Moving, true, "labelled along its track"},
+    };
+    for (const Case& c : cases)
+    {
+        e.pixels.push_back(c.at);
+        e.depth.push_back(c.z);
+        e.labels.push_back(c.label);
+        e.motion.push_back(c.motion);
+    }
+    const std::vector<bool> movable = dynamic::movableVerdicts(e);
+    ASSERT_EQ(movable.size(), cases.size());
+    for (size_t i = 0; i < cases.size(); ++i)
+        EXPECT_EQ(movable[i], cases[i].movable) << cases[i].why;
+    // Without the clearly still mask (still_dilation_px < 0) the label decides.
+    e.still = {};
+    EXPECT_FALSE(dynamic::movableVerdicts(e)[0]);
 }

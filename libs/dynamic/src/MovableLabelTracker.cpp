@@ -173,7 +173,8 @@ void MovableLabelTracker::setMask(uint64_t frameId, const cv::Mat& image)
     }
 }
 
-cv::Mat MovableLabelTracker::movingParts(uint64_t frameId, const cv::Mat& image) const
+cv::Mat MovableLabelTracker::movingParts(uint64_t frameId, const cv::Mat& image,
+                                         double fraction) const
 {
     CV_Assert(image.type() == CV_8UC1);
     cv::Mat moving = cv::Mat::zeros(image.size(), CV_8UC1);
@@ -196,7 +197,8 @@ cv::Mat MovableLabelTracker::movingParts(uint64_t frameId, const cv::Mat& image)
         movingCount[part] += t.motion[i] == Motion::Moving ? 1 : 0;
     }
     for (int part = 1; part < n; ++part)
-        if (3 * movingCount[static_cast<size_t>(part)] > 2 * tracked[static_cast<size_t>(part)])
+        if (static_cast<double>(movingCount[static_cast<size_t>(part)]) >
+            fraction * static_cast<double>(tracked[static_cast<size_t>(part)]))
             moving.setTo(255, parts == part);
     return moving;
 }

@@ -17,7 +17,9 @@ core::OptionFields SemanticEvidenceParameters::fields(const std::string& section
         .add("age_dilation_px", age_dilation_px)
         .add("max_dilation_px", max_dilation_px)
         .add("depth_margin", depth_margin)
-        .add("sample_step", sample_step);
+        .add("sample_step", sample_step)
+        .add("still_dilation_px", still_dilation_px)
+        .add("still_part_max_moving", still_part_max_moving);
     return f;
 }
 
@@ -46,6 +48,14 @@ void SemanticEvidenceParameters::loadFromConfigFile(const mrpt::config::CConfigF
     if (sample_step < 1 || sample_step > 32)
         throw core::InputError(
             mrpt::format("[semantic_evidence] sample_step = %d must be in [1, 32]", sample_step));
+    if (!(still_dilation_px <= 200.0))
+        throw core::InputError(mrpt::format(
+            "[semantic_evidence] still_dilation_px = %g must be <= 200 (negative: off)",
+            still_dilation_px));
+    if (!(still_part_max_moving >= 0.0 && still_part_max_moving <= 1.0))
+        throw core::InputError(
+            mrpt::format("[semantic_evidence] still_part_max_moving = %g must be in [0, 1]",
+                         still_part_max_moving));
 }
 
 void SemanticEvidenceParameters::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,

@@ -4,6 +4,7 @@
 #include <opencv2/core.hpp>
 
 #include "smap/core/Elapsed.h"
+#include "smap/dynamic/MovableVerdict.h"
 
 namespace smap::pipeline
 {
@@ -180,38 +181,56 @@ std::vector<bool> SemanticMapper::movableKeypoints(const PreparedFrame& frame,
     {
         labelTracker_.setMask(mask->frameId(), mask->image());
         labelledMask_ = mask->frameId();
-        const cv::Mat moving = labelTracker_.movingParts(mask->frameId(), mask->image());
-        stillMask_ = cv::countNonZero(moving) == 0
-                         ? mask
-                         : std::make_shared<const dynamic::MovableMask>(mask->without(moving));
+        keepStillParts(mask);
     }
-    const std::vector<dynamic::MovableLabelTracker::Label>& labels =
-        labelTracker_.add(std::move(tracks));
-    std::vector<bool> movable(kps.size(), false);
+    dynamic::MovableEvidence evidence;
+    evidence.motion = tracks.motion;
+    evidence.labels = labelTracker_.add(std::move(tracks));
     if (!mask)
-        return movable;
-    // Keypoints whose track reaches no labelled keypoint: the mask warped by the camera pose,
-    // within the depth of the people there. Only its people who were still on the keyframe: the
-    // warp is right for them, while a walker soon leaves it and the labels follow them instead.
-    const dynamic::SemanticEvidenceParameters& se = params_.semanticEvidence;
-    dynamic::MovableCells cells;
-    const std::optional<Eigen::Isometry3d> T_world_cam = predictPose(framesTracked_);
-    if (T_world_cam && stillMask_ && !stillMask_->empty())
-        cells = stillMask_->project(
-            *T_world_cam, frame.rgbd.camera,
-            std::min(se.max_dilation_px,
-                     se.dilation_px + se.age_dilation_px * static_cast<double>(age)));
+        return std::vector<bool>(kps.size(), false);
     const slam::Frame& f = frame.features;
-    const auto margin = static_cast<float>(se.depth_margin);
-    for (size_t i = 0; i < kps.size(); ++i)
+    evidence.pixels = f.features.undistorted;
+    evidence.depth = f.features.depth;
+    evidence.depthMargin = static_cast<float>(params_.semanticEvidence.depth_margin);
+    // The masks warped by the camera pose: only the people who were still on the keyframe, for
+    // whom the warp is right; a walker soon leaves it and the labels follow them instead.
+    const std::optional<Eigen::Isometry3d> T_world_cam = predictPose(framesTracked_);
+    if (T_world_cam)
     {
-        if (labels[i] == dynamic::MovableLabelTracker::Label::Unknown)
-            movable[i] = cells.contains(f.features.undistorted[i].x, f.features.undistorted[i].y,
-                                        f.features.depth[i], margin);
-        else
-            movable[i] = labels[i] == dynamic::MovableLabelTracker::Label::Movable;
+        const dynamic::SemanticEvidenceParameters& se = params_.semanticEvidence;
+        const double grown = std::min(
+            se.max_dilation_px, se.dilation_px + se.age_dilation_px * static_cast<double>(age));
+        if (stillMask_ && !stillMask_->empty())
+            evidence.grown = stillMask_->project(*T_world_cam, frame.rgbd.camera, grown);
+        if (clearlyStillMask_ && !clearlyStillMask_->empty())
+            evidence.still =
+                clearlyStillMask_->project(*T_world_cam, frame.rgbd.camera, se.still_dilation_px);
     }
-    return movable;
+    return dynamic::movableVerdicts(evidence);
+}
+
+void SemanticMapper::keepStillParts(const MaskBoard::MaskPtr& mask)
+{
+    // Parts of the keyframe mask where more than two thirds of the measured keypoints moved are
+    // walkers; at most still_part_max_moving, clearly still people.
+    constexpr double kWalkerFraction = 2.0 / 3.0;
+    auto without = [&mask](const cv::Mat& drop) -> std::shared_ptr<const dynamic::MovableMask>
+    {
+        if (cv::countNonZero(drop) == 0)
+            return mask;
+        return std::make_shared<const dynamic::MovableMask>(mask->without(drop));
+    };
+    const cv::Mat walking =
+        labelTracker_.movingParts(mask->frameId(), mask->image(), kWalkerFraction);
+    stillMask_ = without(walking);
+    clearlyStillMask_.reset();
+    const dynamic::SemanticEvidenceParameters& se = params_.semanticEvidence;
+    if (se.still_dilation_px < 0.0)
+        return;
+    const cv::Mat moving =
+        labelTracker_.movingParts(mask->frameId(), mask->image(), se.still_part_max_moving);
+    clearlyStillMask_ =
+        cv::countNonZero(moving) == cv::countNonZero(walking) ? stillMask_ : without(moving);
 }
 
 void SemanticMapper::applySemanticEvidence(PreparedFrame& frame, FrameResult& r)

@@ -57,9 +57,9 @@ public:
     void setMask(uint64_t frameId, const cv::Mat& image);
 
     /// The parts (connected regions) of a kept frame's mask (CV_8UC1, non-zero = movable) where
-    /// the flow test found more than two thirds of the keypoints it measured moving, on that
+    /// the flow test found more than `fraction` of the keypoints it measured moving, on that
     /// frame: CV_8UC1, 255 there; all 0 when the frame is not kept.
-    cv::Mat movingParts(uint64_t frameId, const cv::Mat& image) const;
+    cv::Mat movingParts(uint64_t frameId, const cv::Mat& image, double fraction) const;
 
 private:
     struct Kept

@@ -116,10 +116,14 @@ private:
     /// Semantic evidence: flags the keypoints on movable-class regions of the newest usable
     /// keyframe mask as dynamic and movable (weight 0, no map points).
     void applySemanticEvidence(PreparedFrame& frame, FrameResult& r);
-    /// Which keypoints are movable: the label the tracker carried along their Lucas-Kanade
-    /// track from the mask's keyframe, else the mask warped to the predicted pose.
+    /// Which keypoints are movable (dynamic::movableVerdicts): the label the tracker carried
+    /// along their Lucas-Kanade track from the mask's keyframe, else the mask warped to the
+    /// predicted pose; a still keypoint on a clearly still person of the mask, whatever its label.
     std::vector<bool> movableKeypoints(const PreparedFrame& frame, const MaskBoard::MaskPtr& mask,
                                        uint64_t age);
+    /// A new mask: stillMask_ and clearlyStillMask_ from the flow test's verdicts on its
+    /// keyframe.
+    void keepStillParts(const MaskBoard::MaskPtr& mask);
     void markMovable(const std::vector<bool>& movable, PreparedFrame& frame, FrameResult& r);
     /// The frame's pose predicted at constant velocity from the last tracked ones.
     std::optional<Eigen::Isometry3d> predictPose(uint64_t frameId) const;
@@ -137,6 +141,8 @@ private:
     std::optional<uint64_t> labelledMask_;  ///< keyframe of the mask the tracker has
     /// That mask without the people who were walking on its keyframe: the one warped by pose.
     std::shared_ptr<const dynamic::MovableMask> stillMask_;
+    /// That mask with only the people who were clearly still on its keyframe (null: not used).
+    std::shared_ptr<const dynamic::MovableMask> clearlyStillMask_;
     std::unique_ptr<KeyFrameWorker> worker_;
     uint64_t framesTracked_ = 0;  ///< = the tracker's id of the next frame
     /// The last tracked poses (tracker frame id, T_world_cam), newest last.
