@@ -204,10 +204,13 @@ TEST(MovableLabelTracker, APersonStandingStillKeepsTheLabel)
     EXPECT_EQ(n.wallMovable, 0U);
 }
 
-TEST(MovableLabelTracker, MovingPartsAreTheMaskRegionsTheFlowSawMoving)
+namespace
 {
-    MovableLabelTracker tracker(10, 0.5);
-    // Frame 3: a walker at x 100-159 (moving keypoints) and a seated person at x 400-459.
+/// Frame 3 of `tracker`: keypoints on a 10 px grid over x 105-455, y 205-295, 2 m away, the flow
+/// test's verdict `moving(u, v)`; returns the mask of two people, at x 100-159 and x 400-459.
+template <typename Moving>
+cv::Mat twoPeopleOnFrame3(MovableLabelTracker& tracker, Moving moving)
+{
     MovableLabelTracker::FrameTracks t;
     t.frameId = 3;
     for (float u = 105.0F; u < 460.0F; u += 10.0F)
@@ -217,14 +220,24 @@ TEST(MovableLabelTracker, MovingPartsAreTheMaskRegionsTheFlowSawMoving)
             t.keypoints.emplace_back(u, v);
             t.depth.push_back(2.0F);
             t.inReference.emplace_back(u, v);
-            t.motion.push_back(u < 200.0F ? MovableLabelTracker::Motion::Moving
-                                          : MovableLabelTracker::Motion::Still);
+            t.motion.push_back(moving(u, v) ? MovableLabelTracker::Motion::Moving
+                                            : MovableLabelTracker::Motion::Still);
         }
     }
     tracker.add(t);
     cv::Mat image(480, 640, CV_8UC1, cv::Scalar(0));
     image(cv::Rect(100, 200, 60, 100)).setTo(255);
     image(cv::Rect(400, 200, 60, 100)).setTo(255);
+    return image;
+}
+}  // namespace
+
+TEST(MovableLabelTracker, MovingPartsAreTheMaskRegionsTheFlowSawMoving)
+{
+    MovableLabelTracker tracker(10, 0.5);
+    // A walker at x 100-159 (moving keypoints) and a seated person at x 400-459.
+    const cv::Mat image =
+        twoPeopleOnFrame3(tracker, [](float u, float /*v*/) { return u < 200.0F; });
     const cv::Mat moving = tracker.movingParts(3, image, 2.0 / 3.0);
     EXPECT_EQ(cv::countNonZero(moving(cv::Rect(100, 200, 60, 100))), 60 * 100);
     EXPECT_EQ(cv::countNonZero(moving), 60 * 100) << "the seated person and the rest stay";
@@ -252,27 +265,11 @@ TEST(MovableMask, WithoutLeavesOutTheDroppedPixels)
 
 TEST(MovableLabelTracker, ALowerFractionTakesInASwayingPerson)
 {
-    // Frame 3: a person at x 100-159 of whom half the measured keypoints moved (swaying), one
-    // at x 400-459 who stood still.
+    // A person at x 100-159 of whom half the measured keypoints moved (swaying), one at
+    // x 400-459 who stood still.
     MovableLabelTracker tracker(10, 0.5);
-    MovableLabelTracker::FrameTracks t;
-    t.frameId = 3;
-    for (float u = 105.0F; u < 460.0F; u += 10.0F)
-    {
-        for (float v = 205.0F; v < 300.0F; v += 10.0F)
-        {
-            t.keypoints.emplace_back(u, v);
-            t.depth.push_back(2.0F);
-            t.inReference.emplace_back(u, v);
-            const bool sways = u < 200.0F && static_cast<int>(v) % 20 == 5;
-            t.motion.push_back(sways ? MovableLabelTracker::Motion::Moving
-                                     : MovableLabelTracker::Motion::Still);
-        }
-    }
-    tracker.add(t);
-    cv::Mat image(480, 640, CV_8UC1, cv::Scalar(0));
-    image(cv::Rect(100, 200, 60, 100)).setTo(255);
-    image(cv::Rect(400, 200, 60, 100)).setTo(255);
+    const cv::Mat image = twoPeopleOnFrame3(
+        tracker, [](float u, float v) { return u < 200.0F && static_cast<int>(v) % 20 == 5; });
     EXPECT_EQ(cv::countNonZero(tracker.movingParts(3, image, 2.0 / 3.0)), 0)
         << "half moving is no walker";
     const cv::Mat moving = tracker.movingParts(3, image, 0.34);
