@@ -1,7 +1,7 @@
 // Semantic evidence with known answers: a keyframe mask warped into a moved camera lands where
 // the geometry says, only at the people's depth; labels follow a walking person along the
 // Lucas-Kanade tracks and leave the background the person uncovers; a still keypoint on a
-// clearly still person is movable whatever label its track carried.
+// clearly still person is movable even when its track carried a static label.
 #include <gtest/gtest.h>
 
 #include <opencv2/core.hpp>

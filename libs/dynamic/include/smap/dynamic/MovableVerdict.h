@@ -28,11 +28,11 @@ struct MovableEvidence
 };
 
 /// Per keypoint, whether it is movable:
-/// - a keypoint the flow test found still, inside `still`: movable, whatever label its track
-///   carried. A person who stands still stays where the pose puts them, while the labels,
-///   handed on from keypoint to keypoint every frame_gap frames by a majority of the still
-///   ones around, lose a person who sways (their moving keypoints do not count);
-/// - else its label, when its track carried one;
-/// - else (Unknown) whether it lies inside `grown`.
+/// - no label (Unknown): whether it lies inside `grown`;
+/// - a static label on a keypoint the flow test found still: whether it lies inside `still`. A
+///   person who stands still stays where the pose puts them, while the labels, handed on from
+///   keypoint to keypoint every frame_gap frames by a majority of the still ones around, lose
+///   a person who sways (their moving keypoints do not count);
+/// - else its label.
 std::vector<bool> movableVerdicts(const MovableEvidence& evidence);
 }  // namespace smap::dynamic

@@ -38,9 +38,9 @@ struct SemanticEvidenceParameters : public mrpt::config::CLoadableOptions
     /// One 3-D sample of a mask every sample_step pixels (each way).
     int sample_step = 4;
     /// A keypoint the flow test found still is movable when it lies in the warped mask of the
-    /// people who were clearly still on the keyframe, grown by this (px), whatever label its
-    /// track carried (labels handed on along tracks lose a person who sways). Negative: the
-    /// label decides.
+    /// people who were clearly still on the keyframe, grown by this (px), even when its track
+    /// carried a static label (labels handed on along tracks lose a person who sways).
+    /// Negative: the label decides.
     double still_dilation_px = 6.0;
     /// A part of the keyframe mask is clearly still when at most this fraction of the keypoints
     /// the flow test measured on it on the keyframe moved.

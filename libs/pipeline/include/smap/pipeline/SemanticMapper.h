@@ -118,7 +118,8 @@ private:
     void applySemanticEvidence(PreparedFrame& frame, FrameResult& r);
     /// Which keypoints are movable (dynamic::movableVerdicts): the label the tracker carried
     /// along their Lucas-Kanade track from the mask's keyframe, else the mask warped to the
-    /// predicted pose; a still keypoint on a clearly still person of the mask, whatever its label.
+    /// predicted pose; a still keypoint on a clearly still person of the mask even when its
+    /// track carried a static label.
     std::vector<bool> movableKeypoints(const PreparedFrame& frame, const MaskBoard::MaskPtr& mask,
                                        uint64_t age);
     /// A new mask: stillMask_ and clearlyStillMask_ from the flow test's verdicts on its
