@@ -6,6 +6,8 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include "TestData.h"
 #include "smap/apps/EvalApp.h"
@@ -18,6 +20,18 @@ namespace
 void writeFile(const std::string& path, const std::string& text)
 {
     std::ofstream(path) << text;
+}
+
+/// `smap-eval keypoints` input folders dir/masks and dir/debug, with a `size` x `size` px mask
+/// whose columns 0-4 are a person for each of `frames` (file stems).
+void writePersonMasks(const test::TempDir& dir, int size, const std::vector<std::string>& frames)
+{
+    std::filesystem::create_directories(dir / "masks");
+    std::filesystem::create_directories(dir / "debug");
+    cv::Mat mask(size, size, CV_8UC1, cv::Scalar(0));
+    mask.colRange(0, 5).setTo(255);
+    for (const std::string& frame : frames)
+        ASSERT_TRUE(cv::imwrite(dir / ("masks/" + frame + ".png"), mask));
 }
 }  // namespace
 
@@ -82,12 +96,8 @@ TEST(EvalApp, RpeAndArgumentErrors)
 TEST(EvalApp, KeypointsSaysWhereTheFalsePositivesAre)
 {
     test::TempDir dir;
-    std::filesystem::create_directories(dir / "masks");
-    std::filesystem::create_directories(dir / "debug");
     // Columns 0-4 of a 20 x 20 image are a person.
-    cv::Mat mask(20, 20, CV_8UC1, cv::Scalar(0));
-    mask.colRange(0, 5).setTo(255);
-    ASSERT_TRUE(cv::imwrite(dir / "masks/000001.png", mask));
+    writePersonMasks(dir, 20, {"000001"});
     writeFile(dir / "debug/000001.csv",
               "u,v,depth_m,residual_px,patch_error,flow,depth_test,region,isolated,was_dynamic,"
               "semantic,dynamic\n"
@@ -120,14 +130,8 @@ TEST(EvalApp, KeypointsSaysWhereTheFalsePositivesAre)
 TEST(EvalApp, KeypointsScoresDecisionsAgainstMasks)
 {
     test::TempDir dir;
-    std::filesystem::create_directories(dir / "masks");
-    std::filesystem::create_directories(dir / "debug");
     // Left half of a 10x10 image is dynamic.
-    cv::Mat mask(10, 10, CV_8UC1, cv::Scalar(0));
-    mask.colRange(0, 5).setTo(255);
-    ASSERT_TRUE(cv::imwrite(dir / "masks/000001.png", mask));
-    ASSERT_TRUE(cv::imwrite(dir / "masks/000002.png", mask));
-    ASSERT_TRUE(cv::imwrite(dir / "masks/000000.png", mask));
+    writePersonMasks(dir, 10, {"000001", "000002", "000000"});
     const std::string header =
         "u,v,depth_m,residual_px,patch_error,flow,depth_test,region,isolated,was_dynamic,dynamic\n";
     // Frame 0 was not evaluated: it must not count (its all-static rows would be misses).
@@ -177,7 +181,7 @@ TEST(EvalApp, KeypointsScoresDecisionsAgainstMasks)
 
     // A keypoint outside the mask, or a missing mask, is an input error naming the file.
     writeFile(dir / "debug/000003.csv", header + "12,2,1,9,1,1,0,0,0,1\n");
-    ASSERT_TRUE(cv::imwrite(dir / "masks/000003.png", mask));
+    writePersonMasks(dir, 10, {"000003"});
     try
     {
         app.run({"keypoints", dir / "masks", dir / "debug"}, out);
