@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <future>
 #include <opencv2/core.hpp>
 #include <stdexcept>
 #include <thread>
@@ -16,18 +17,30 @@ using namespace smap;
 
 namespace
 {
+/// Holds the segmentation of the frame named "gated" until the test opens it, so that the
+/// test knows the worker is busy while it queues more keyframes (however loaded the machine).
+struct Gate
+{
+    std::promise<void> entered, open;
+};
+
 /// Labels everything `label` after `delay`; throws on the frame named "bad".
 class SlowSegmenter : public segmentation::Segmenter
 {
 public:
-    SlowSegmenter(std::chrono::milliseconds delay, int label)
-        : Segmenter("slow", core::LabelSet::pascalVoc()), delay_(delay), label_(label)
+    SlowSegmenter(std::chrono::milliseconds delay, int label, Gate* gate)
+        : Segmenter("slow", core::LabelSet::pascalVoc()), delay_(delay), label_(label), gate_(gate)
     {
     }
     segmentation::SegmentationResult segmentNative(const core::RgbdFrame& frame) override
     {
         if (frame.name == "bad")
             throw core::InputError("no label image for frame 'bad'");
+        if (gate_ && frame.name == "gated")
+        {
+            gate_->entered.set_value();
+            gate_->open.get_future().wait();
+        }
         std::this_thread::sleep_for(delay_);
         const int n = static_cast<int>(labels().size());
         cv::Mat p(n, frame.colour.cols * frame.colour.rows, CV_32FC1, cv::Scalar(0.0f));
@@ -40,6 +53,7 @@ public:
 private:
     std::chrono::milliseconds delay_;
     int label_;
+    Gate* gate_;
 };
 
 pipeline::KeyFrameJob job(uint64_t k, double z, const std::string& name = "f")
@@ -60,12 +74,13 @@ pipeline::KeyFrameJob job(uint64_t k, double z, const std::string& name = "f")
     return j;
 }
 
-std::unique_ptr<pipeline::KeyFrameWorker> worker(std::chrono::milliseconds delay, size_t queue)
+std::unique_ptr<pipeline::KeyFrameWorker> worker(std::chrono::milliseconds delay, size_t queue,
+                                                 Gate* gate = nullptr)
 {
     mapping::MapBuilderParameters map;
     map.octomap = false;
     return std::make_unique<pipeline::KeyFrameWorker>(
-        std::make_unique<SlowSegmenter>(delay, 9), core::LabelSet::pascalVoc(),
+        std::make_unique<SlowSegmenter>(delay, 9, gate), core::LabelSet::pascalVoc(),
         mapping::DynamicRegionParameters(), map, queue);
 }
 }  // namespace
@@ -142,11 +157,13 @@ TEST(KeyFrameWorker, SegmenterFailureReachesTheCaller)
 
 namespace
 {
-/// Six keyframes queued behind a 100 ms segmenter; returns the frame id of the newest mask on
-/// the board up to each keyframe (-1: none) and checks that the maps took them in order.
+/// Keyframes 1-5 queued while keyframe 0 is being segmented (held at the gate until all are
+/// queued); returns the frame id of the newest mask on the board up to each keyframe (-1:
+/// none) and checks that the maps took them in order.
 std::vector<int> masksAfterABacklog(bool newestFirst, size_t& segmentedAhead)
 {
-    auto w = worker(std::chrono::milliseconds(100), 8);
+    Gate gate;
+    auto w = worker(std::chrono::milliseconds(0), 8, &gate);
     pipeline::MaskBoard board;
     std::vector<bool> movable(core::LabelSet::pascalVoc().size(), false);
     movable[9] = true;
@@ -159,8 +176,11 @@ std::vector<int> masksAfterABacklog(bool newestFirst, size_t& segmentedAhead)
             mapped.push_back(j.keyframe);
             EXPECT_EQ(obs.labels.at<uint8_t>(0, 0), 9);
         });
-    for (uint64_t k = 0; k < 6; ++k)
+    EXPECT_TRUE(w->submit(job(0, 0.0, "gated"), true));
+    gate.entered.get_future().wait();
+    for (uint64_t k = 1; k < 6; ++k)
         EXPECT_TRUE(w->submit(job(k, static_cast<double>(k)), true));
+    gate.open.set_value();
     w->finish();
     EXPECT_EQ(mapped, (std::vector<uint64_t>{0, 1, 2, 3, 4, 5}));
     const auto s = w->stats();
