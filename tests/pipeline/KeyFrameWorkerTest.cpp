@@ -120,12 +120,15 @@ TEST(KeyFrameWorker, WaitingQueueMapsEveryKeyframeInOrder)
 
 TEST(KeyFrameWorker, DroppingQueueNeverBlocksTracking)
 {
-    // Six keyframes arrive while the first is segmented for 300 ms: one runs, one waits in the
-    // queue, the rest are dropped rather than stalling tracking.
-    auto w = worker(std::chrono::milliseconds(300), 1);
-    size_t queued = 0;
-    for (uint64_t k = 0; k < 6; ++k)
+    // Five more keyframes arrive while the first is segmented (held at the gate): one runs,
+    // one waits in the queue, the rest are dropped rather than stalling tracking.
+    Gate gate;
+    auto w = worker(std::chrono::milliseconds(0), 1, &gate);
+    size_t queued = w->submit(job(0, 0.0, "gated"), false) ? 1 : 0;
+    gate.entered.get_future().wait();
+    for (uint64_t k = 1; k < 6; ++k)
         queued += w->submit(job(k, 0.0), false) ? 1 : 0;
+    gate.open.set_value();
     w->finish();
     const auto s = w->stats();
     EXPECT_EQ(s.keyframes, queued);
