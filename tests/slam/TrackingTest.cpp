@@ -477,6 +477,75 @@ TEST(RgbdSlam, FrameBeforeTheMapIsPosedFromTheOdometryThatLinksIt)
     EXPECT_LT((unrefined.trajectory[0].T_world_cam - odometryPose).norm(), 1e-9);
 }
 
+// Tracking is lost over five blank frames; relocalisation is made impossible (it would need
+// more inliers than there are keypoints). The outside odometry, 2 mm off per frame, carries
+// the pose across the gap: the first frame after it is found in the local map from the carried
+// pose (fallback "carried_pose") and placed at the true pose. Without the odometry, or when
+// the gap is longer than carried_search_frames, it stays lost.
+TEST(RgbdSlam, LostFramesArePlacedFromThePoseTheOdometryCarried)
+{
+    const auto& seq = staticXyz();
+    constexpr size_t kBlank = 40, kBack = 45;
+    // The outside odometry T_cam_earlier of frame i, 2 mm off the truth.
+    auto odometryAt = [&seq](size_t i)
+    {
+        return (seq.groundTruth[i - 1].T_world_cam - seq.groundTruth[i].T_world_cam) +
+               mrpt::poses::CPose3D(0.002, 0, 0, 0, 0, 0);
+    };
+    // The last tracked frame's pose and the first one's after the gap.
+    using Ends = std::pair<slam::TrackingResult, slam::TrackingResult>;
+    auto run = [&](bool withOdometry, int searchFrames, bool blank = true)
+    {
+        slam::TrackerParameters tp;
+        tp.min_inliers_after_relocalisation = 100000;
+        tp.carried_search_frames = searchFrames;
+        slam::RgbdSlam slam(features::OrbParameters{}, tp, deterministic());
+        Ends ends;
+        for (size_t i = 0; i <= kBack; ++i)
+        {
+            core::RgbdFrame rgbd = seq.frames[i];
+            if (blank && i >= kBlank && i < kBack)
+            {
+                rgbd.colour = cv::Mat(rgbd.colour.size(), CV_8UC3, cv::Scalar(120, 120, 120));
+                rgbd.depth = cv::Mat::zeros(rgbd.depth.size(), CV_32FC1);
+            }
+            auto f = slam.prepare(rgbd);
+            if (withOdometry && i > 0)
+            {
+                f.odometry_T_cam_earlier = Eigen::Isometry3d(
+                    odometryAt(i).getHomogeneousMatrixVal<mrpt::math::CMatrixDouble44>().asEigen());
+                f.odometryFramesBack = 1;
+            }
+            const auto r = slam.track(std::move(f));
+            if (blank && i >= kBlank && i < kBack)
+            {
+                EXPECT_EQ(r.status, slam::TrackingStatus::Lost) << i;
+            }
+            (i + 1 == kBlank ? ends.first : ends.second) = r;
+        }
+        return ends;
+    };
+    EXPECT_EQ(run(false, 30).second.status, slam::TrackingStatus::Lost) << "no odometry";
+    EXPECT_EQ(run(true, 5).second.status, slam::TrackingStatus::Lost) << "lost for too long";
+    EXPECT_EQ(run(true, 0).second.status, slam::TrackingStatus::Lost) << "stage switched off";
+    const auto [before, back] = run(true, 6);
+    ASSERT_EQ(before.status, slam::TrackingStatus::Ok);
+    ASSERT_EQ(back.status, slam::TrackingStatus::Ok);
+    EXPECT_EQ(back.fallback, slam::TrackingFallback::CarriedPose);
+    EXPECT_EQ(slam::toString(back.fallback), "carried_pose");
+    // Where tracking puts the frame when nothing is blank, and where the odometry carried it
+    // (6 x 2 mm off the truth).
+    const slam::TrackingResult tracked = run(true, 6, false).second;
+    ASSERT_EQ(tracked.status, slam::TrackingStatus::Ok);
+    EXPECT_EQ(tracked.fallback, slam::TrackingFallback::None);
+    const auto toMap = [](const slam::TrackingResult& r) { return slam::toCPose3D(r.T_world_cam); };
+    mrpt::poses::CPose3D carried = toMap(before);
+    for (size_t i = kBlank; i <= kBack; ++i)
+        carried = carried + (mrpt::poses::CPose3D() - odometryAt(i));  // + T_earlier_cam
+    EXPECT_GT((carried - toMap(tracked)).norm(), 0.01) << "the check must bite";
+    EXPECT_LT((toMap(back) - toMap(tracked)).norm(), 0.003) << "translation error (m)";
+}
+
 // After an outage the camera is usually back near where tracking was lost, but the thumbnail
 // ranking can put an unrelated keyframe first: the keyframe tracking was lost at is tried too.
 TEST(Relocalisation, TriesTheKeyFrameTrackingWasLostAtWhenThumbnailsMislead)
@@ -592,6 +661,12 @@ TEST(SlamParameters, InvalidValuesNameTheKey)
     slam::TrackerParameters n;
     EXPECT_NE(test::inputErrorOf([&] { n.loadFromConfigFile(newPoints, ""); })
                   .find("keyframe_new_points"),
+              std::string::npos);
+    mrpt::config::CConfigFileMemory carried;
+    carried.write("tracking", "carried_search_frames", -2);
+    slam::TrackerParameters c;
+    EXPECT_NE(test::inputErrorOf([&] { c.loadFromConfigFile(carried, ""); })
+                  .find("carried_search_frames = -2"),
               std::string::npos);
     mrpt::config::CConfigFileMemory cfg2;
     cfg2.write("local_mapping", "keyframe_redundancy", 1.5);

@@ -189,12 +189,13 @@ core::JsonValue RunLog::trackingJson() const
         .set("frames_lost", static_cast<uint64_t>(lost_))
         .set("relocalisations", static_cast<uint64_t>(relocalised_))
         .set("reanchors", static_cast<uint64_t>(reanchored_));
-    uint64_t withMask = 0, raised = 0, stillMovable = 0;
+    uint64_t withMask = 0, raised = 0, stillMovable = 0, carried = 0;
     std::vector<double> ages;
     for (const auto& r : rows_)
     {
         raised += r.result.tracking.fallback == slam::TrackingFallback::RaisedWeights ? 1 : 0;
         stillMovable += r.result.tracking.fallback == slam::TrackingFallback::StillMovable ? 1 : 0;
+        carried += r.result.tracking.fallback == slam::TrackingFallback::CarriedPose ? 1 : 0;
         if (r.result.maskAge)
         {
             withMask++;
@@ -203,6 +204,7 @@ core::JsonValue RunLog::trackingJson() const
     }
     j.set("frames_raised_weights", raised)
         .set("frames_still_movable", stillMovable)
+        .set("frames_carried_pose", carried)
         .set("frames_with_mask", withMask)
         .set("median_mask_age", core::upperMedianInPlace(ages, 0.0));
     return j;

@@ -37,6 +37,7 @@ core::OptionFields TrackerParameters::fields(const std::string& section)
         .add("keyframe_ref_ratio", keyframe_ref_ratio)
         .add("revisit_radius", revisit_radius)
         .add("revisit_max_frames", revisit_max_frames)
+        .add("carried_search_frames", carried_search_frames)
         .add("relocalisation_candidates", relocalisation_candidates)
         .add("reanchor_after", reanchor_after)
         .add("fallback_weight", fallback_weight)
@@ -79,6 +80,9 @@ void TrackerParameters::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
             "[tracking] revisit_max_frames = %d must be >= 0, or -1 (follow loop closing)",
             revisit_max_frames));
     requirePositive(relocalisation_candidates, s, "relocalisation_candidates");
+    if (carried_search_frames < 0)
+        throw core::InputError(mrpt::format("[tracking] carried_search_frames = %d must be >= 0",
+                                            carried_search_frames));
     if (reanchor_after < 0)
         throw core::InputError(
             mrpt::format("[tracking] reanchor_after = %d must be >= 0", reanchor_after));

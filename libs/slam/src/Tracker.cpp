@@ -50,6 +50,8 @@ std::string toString(TrackingFallback f)
             return "raised_weights";
         case TrackingFallback::StillMovable:
             return "still_movable";
+        case TrackingFallback::CarriedPose:
+            return "carried_pose";
     }
     return "unknown";
 }
@@ -181,11 +183,15 @@ Tracker::Attempt Tracker::trackWhileTracking(Frame& frame)
     for (const auto stage : {TrackingFallback::RaisedWeights, TrackingFallback::StillMovable})
         if (trackWithRaisedWeights(frame, stage))
             return {true, false, stage};
+    if (trackFromCarriedPose(frame))
+        return {true, false, TrackingFallback::CarriedPose};
     return {false, false, TrackingFallback::None};
 }
 
 Tracker::Attempt Tracker::trackWhileLost(Frame& frame)
 {
+    if (trackFromCarriedPose(frame))
+        return {true, false, TrackingFallback::CarriedPose};
     const bool relocalised = relocalise(frame);
     if (relocalised)
         lastRelocalisationFrameId_ = frame.id;
@@ -478,6 +484,24 @@ bool Tracker::relocalise(Frame& frame)
     frame.clearMatches();
     const int inliers = relocaliseFrame(frame, map_, params_, reference_.get());
     return inliers >= params_.min_inliers_after_relocalisation;
+}
+
+bool Tracker::trackFromCarriedPose(Frame& frame)
+{
+    if (params_.carried_search_frames <= 0 || framesLost_ >= params_.carried_search_frames)
+        return false;
+    const auto carried = odometryPose(frame);
+    if (!carried)
+        return false;
+    frame.clearMatches();
+    frame.T_cam_world = *carried;
+    updateLocalMap(frame);  // no matches yet: all the points of the last local keyframes
+    const int found = searchLocalPoints(frame, localPoints_, params_.local_search_radius);
+    const bool ok = found >= params_.min_matches_motion && optimise(frame) > 0 &&
+                    frame.discardOutliers() >= 10 && trackLocalMap(frame);
+    if (!ok)
+        frame.clearMatches();
+    return ok;
 }
 
 void Tracker::updateLocalMap(const Frame& frame)

@@ -41,8 +41,8 @@ public:
     /// "duration_s", "mean_valid_depth_fraction" and "camera" in `metrics`.
     void describeInput(core::JsonValue& metrics) const;
     /// frames_with_pose, frames_lost, relocalisations, reanchors, frames_raised_weights,
-    /// frames_still_movable (the tracking fallbacks), frames_with_mask and median_mask_age
-    /// (semantic evidence).
+    /// frames_still_movable, frames_carried_pose (the tracking fallbacks), frames_with_mask and
+    /// median_mask_age (semantic evidence).
     core::JsonValue trackingJson() const;
     /// Sets feature_extraction, dynamic_filter, semantic_evidence, mask_wait, tracking and
     /// keyframe_queue_wait in `timings`.

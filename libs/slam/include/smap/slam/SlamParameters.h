@@ -42,6 +42,11 @@ struct TrackerParameters : public mrpt::config::CLoadableOptions
     /// left to loop closing, which corrects the drift before joining them. 0: any age; -1:
     /// [loop_closing] min_frame_gap when loop closing is on, else any age (RgbdSlam resolves it).
     int revisit_max_frames = -1;
+    /// A frame that no other stage tracks, and for this many frames after a loss a lost frame
+    /// before relocalisation, is searched in the local map from the pose the outside odometry
+    /// carried it to (Frame::odometry_T_cam_earlier, chained over lost frames): the last
+    /// fallback (TrackingFallback::CarriedPose), min_inliers to succeed. 0 disables it.
+    int carried_search_frames = 30;
     int relocalisation_candidates = 5;  ///< keyframes tried per lost frame, by image similarity
     /// After this many lost frames in a row that relocalisation could not place, the next frame
     /// with enough depth (2 x min_inliers_after_relocalisation usable keypoints with depth)

@@ -47,8 +47,12 @@ enum class TrackingFallback
     /// As RaisedWeights, plus the keypoints of movable regions that the motion evidence found
     /// still: where people fill the view a stale or grown mask can cover most of the background.
     StillMovable,
+    /// The local map searched from the pose the outside odometry carried the frame to (the
+    /// dynamic filter's ego-motion, chained over lost frames): where the motion model and the
+    /// reference keyframe find too few matches, or after a loss ([tracking] carried_search_frames).
+    CarriedPose,
 };
-/// "", "raised_weights", "still_movable" (frames.csv's fallback column).
+/// "", "raised_weights", "still_movable", "carried_pose" (frames.csv's fallback column).
 std::string toString(TrackingFallback f);
 inline bool hasPose(TrackingStatus s)
 {
@@ -152,6 +156,10 @@ private:
     /// (Frame::stillMovable). False when the stage would change no weight.
     bool trackWithRaisedWeights(Frame& frame, TrackingFallback stage);
     bool relocalise(Frame& frame);
+    /// The CarriedPose stage: the local map (of the loss, when lost) searched from the pose the
+    /// outside odometry carried the frame to; false without such a pose, past
+    /// carried_search_frames lost frames, or with too few inliers.
+    bool trackFromCarriedPose(Frame& frame);
     /// Adds `frame` as a keyframe at its current pose with points from its depth (the first
     /// keyframe, or a re-anchor); false when it has fewer than `min_points` usable depths.
     bool anchorKeyFrame(Frame& frame, int min_points);
