@@ -127,6 +127,41 @@ TEST(EvalApp, KeypointsSaysWhereTheFalsePositivesAre)
     EXPECT_NE(json.find("\"semantic_only\": 1"), std::string::npos) << json;
 }
 
+TEST(EvalApp, KeypointsSplitsTheOutlineBandBySide)
+{
+    test::TempDir dir;
+    // Columns 0-4 of a 20 x 20 image are a person: the 3 px band is columns 2-4 on the person
+    // and 5-7 beside it.
+    writePersonMasks(dir, 20, {"000001"});
+    writeFile(dir / "debug/000001.csv",
+              "u,v,depth_m,residual_px,patch_error,flow,depth_test,region,isolated,was_dynamic,"
+              "semantic,dynamic\n"
+              "3,1,1,9,1,1,0,0,0,0,0,1\n"     // band, on the person, said
+              "4,5,0,0.5,1,0,0,0,0,0,0,0\n"   // band, on the person, not said
+              "1,9,1,9,1,1,0,0,0,0,0,1\n"     // on the person, outside the band
+              "6,2,0,9,1,1,0,0,0,0,0,1\n"     // band, beside, said
+              "7,7,1,0.5,1,0,0,0,0,0,0,0\n"   // band, beside, not said
+              "7,12,1,0.5,1,0,0,0,0,0,0,0\n"  // band, beside, not said
+              "8,4,1,9,1,1,0,0,0,0,0,1\n");   // beside, outside the band
+    apps::EvalApp app;
+    // The band is counted whether or not the edge margin leaves it out of the score.
+    for (const char* margin : {"0", "3"})
+    {
+        std::ostringstream out;
+        ASSERT_EQ(app.run({"keypoints", dir / "masks", dir / "debug", "--edge-margin", margin,
+                           "--json", dir / "k.json"},
+                          out),
+                  0);
+        EXPECT_NE(out.str().find("said dynamic 50.0 % of 2 keypoints on a mask, 33.3 % of 3 "
+                                 "beside one"),
+                  std::string::npos)
+            << "margin " << margin << ": " << out.str();
+        const std::string json = test::readTextFile(dir / "k.json");
+        EXPECT_NE(json.find("\"beside_mask_said_dynamic\": 1"), std::string::npos) << json;
+        EXPECT_NE(json.find("\"on_mask_keypoints\": 2"), std::string::npos) << json;
+    }
+}
+
 TEST(EvalApp, KeypointsScoresDecisionsAgainstMasks)
 {
     test::TempDir dir;

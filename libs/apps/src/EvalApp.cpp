@@ -30,8 +30,8 @@ void writeJson(const std::string& path, const core::JsonValue& j)
     f.commit();
 }
 
-/// Where the false positives of a keypoint score are, and the precision the outline corners
-/// alone would leave.
+/// Where the false positives of a keypoint score are, the precision the outline corners alone
+/// would leave, and how the decisions split across the outline.
 void printFalsePositives(const eval::KeypointDetectionScore& s, std::ostream& out)
 {
     const auto& d = s.falsePositivesByDistance;
@@ -46,6 +46,13 @@ void printFalsePositives(const eval::KeypointDetectionScore& s, std::ostream& ou
         e[0], e[1], e[2], e[3], e[4]);
     out << mrpt::format("precision if only those within 3 px of a mask remained: %.4f\n",
                         s.precisionWithin(3.0));
+    const auto& on = s.bandOnMask;
+    const auto& beside = s.bandBesideMask;
+    out << mrpt::format(
+        "outline band (within %d px of a mask edge, scored or not): said dynamic %.1f %% of "
+        "%zu keypoints on a mask, %.1f %% of %zu beside one\n",
+        eval::KeypointDetectionScore::kOutlineBandPx, 100.0 * on.saidFraction(), on.keypoints,
+        100.0 * beside.saidFraction(), beside.keypoints);
 }
 
 /// smap-eval keypoints: every DEBUG_DIR/*.csv against MASK_DIR/<same stem>.png.
@@ -174,7 +181,8 @@ std::string EvalApp::usage()
            "  keypoints within PX of a mask edge (default 0: all scored), whose label is a coin\n"
            "  flip for a corner on an outline. Then where the false positives are: by distance\n"
            "  from the nearest mask pixel and by the evidence that decided them, and the\n"
-           "  precision if only the outline corners within 3 px of a mask were false.\n"
+           "  precision if only the outline corners within 3 px of a mask were false, and the\n"
+           "  share said dynamic on either side of the outline (within 3 px).\n"
            "segmentation: the paper's Table III per-class frame scores (TP/FN/FP/TN, FPR, FNR,\n"
            "  Re, Pr, PWC; correctly segmented = IoU >= --iou-threshold, default 0.5), pixel IoU\n"
            "  and IoU within --band px (default 5) of true class edges, for every PRED_DIR/*.png\n"

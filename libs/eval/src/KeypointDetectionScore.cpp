@@ -7,6 +7,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
+#include <utility>
 #include <vector>
 
 #include "smap/core/InputError.h"
@@ -33,7 +34,18 @@ KeypointDetectionScore& KeypointDetectionScore::operator+=(const KeypointDetecti
         falsePositivesByDistance[k] += o.falsePositivesByDistance[k];
     for (size_t k = 0; k < falsePositivesByEvidence.size(); ++k)
         falsePositivesByEvidence[k] += o.falsePositivesByEvidence[k];
+    for (auto [mine, theirs] :
+         {std::pair{&bandOnMask, &o.bandOnMask}, std::pair{&bandBesideMask, &o.bandBesideMask}})
+    {
+        mine->keypoints += theirs->keypoints;
+        mine->said += theirs->said;
+    }
     return *this;
+}
+
+double KeypointDetectionScore::BandSide::saidFraction() const
+{
+    return keypoints == 0 ? 0.0 : static_cast<double>(said) / static_cast<double>(keypoints);
 }
 
 double KeypointDetectionScore::recall() const
@@ -79,6 +91,13 @@ core::JsonValue KeypointDetectionScore::toJson() const
         byEvidence.set(names[k], static_cast<double>(falsePositivesByEvidence[k]));
     j.set("false_positives_by_evidence", std::move(byEvidence));
     j.set("precision_within_3_px", precisionWithin(3.0));
+    auto band = core::JsonValue::object();
+    band.set("width_px", static_cast<double>(kOutlineBandPx))
+        .set("on_mask_keypoints", static_cast<double>(bandOnMask.keypoints))
+        .set("on_mask_said_dynamic", static_cast<double>(bandOnMask.said))
+        .set("beside_mask_keypoints", static_cast<double>(bandBesideMask.keypoints))
+        .set("beside_mask_said_dynamic", static_cast<double>(bandBesideMask.said));
+    j.set("outline_band", std::move(band));
     return j;
 }
 
@@ -122,6 +141,18 @@ struct EvidenceColumns
     }
 };
 
+/// The pixels within `px` of a mask edge: those whose (2 px + 1) square holds both mask and
+/// non-mask pixels (the dilated and eroded masks differ there).
+cv::Mat nearMaskEdge(const cv::Mat& mask, int px)
+{
+    const cv::Mat binary = mask != 0;
+    const cv::Mat box = cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * px + 1, 2 * px + 1));
+    cv::Mat grown, shrunk;
+    cv::dilate(binary, grown, box, cv::Point(-1, -1), 1, cv::BORDER_REPLICATE);
+    cv::erode(binary, shrunk, box, cv::Point(-1, -1), 1, cv::BORDER_REPLICATE);
+    return grown != shrunk;
+}
+
 /// Counts a false positive at pixel (x, y) by its distance from the mask and by its evidence.
 void countFalsePositive(KeypointDetectionScore& score, const cv::Mat& distance, int x, int y,
                         Evidence evidence)
@@ -154,18 +185,8 @@ KeypointDetectionScore scoreKeypointFrame(const std::string& evidence_csv,
     const cv::Mat mask = cv::imread(mask_png, cv::IMREAD_UNCHANGED);
     if (mask.empty() || mask.type() != CV_8UC1)
         throw core::InputError("'" + mask_png + "' is not an 8-bit single-channel mask");
-    // Pixels whose square neighbourhood holds both labels: the dilated and eroded masks differ.
-    cv::Mat nearEdge;
-    if (edge_margin > 0)
-    {
-        const cv::Mat binary = mask != 0;
-        const cv::Mat box = cv::getStructuringElement(
-            cv::MORPH_RECT, cv::Size(2 * edge_margin + 1, 2 * edge_margin + 1));
-        cv::Mat grown, shrunk;
-        cv::dilate(binary, grown, box, cv::Point(-1, -1), 1, cv::BORDER_REPLICATE);
-        cv::erode(binary, shrunk, box, cv::Point(-1, -1), 1, cv::BORDER_REPLICATE);
-        nearEdge = grown != shrunk;
-    }
+    const cv::Mat nearEdge = edge_margin > 0 ? nearMaskEdge(mask, edge_margin) : cv::Mat();
+    const cv::Mat band = nearMaskEdge(mask, KeypointDetectionScore::kOutlineBandPx);
     const EvidenceColumns columns(line);
     // Distance (px) of each pixel from the nearest mask pixel (0 on the mask), computed at the
     // frame's first false positive.
@@ -189,14 +210,23 @@ KeypointDetectionScore scoreKeypointFrame(const std::string& evidence_csv,
             throw core::InputError(mrpt::format(
                 "'%s' line %zu: '%s' is not a keypoint inside the %dx%d mask '%s'",
                 evidence_csv.c_str(), row, line.c_str(), mask.cols, mask.rows, mask_png.c_str()));
+        const bool said = cells.back() == "1";
+        if (band.at<uint8_t>(static_cast<int>(y), static_cast<int>(x)))
+        {
+            auto& side = mask.at<uint8_t>(static_cast<int>(y), static_cast<int>(x)) != 0
+                             ? score.bandOnMask
+                             : score.bandBesideMask;
+            side.keypoints++;
+            side.said += said ? 1 : 0;
+        }
         if (!nearEdge.empty() && nearEdge.at<uint8_t>(static_cast<int>(y), static_cast<int>(x)))
         {
             score.nearEdge++;
             continue;
         }
         const bool truth = mask.at<uint8_t>(static_cast<int>(y), static_cast<int>(x)) != 0;
-        score.add(truth, cells.back() == "1");
-        if (!truth && cells.back() == "1")
+        score.add(truth, said);
+        if (!truth && said)
         {
             if (distance.empty())
                 cv::distanceTransform(mask == 0, distance, cv::DIST_L2, cv::DIST_MASK_PRECISE);

@@ -35,6 +35,18 @@ struct KeypointDetectionScore
     };
     std::array<size_t, static_cast<size_t>(Evidence::Count)> falsePositivesByEvidence{};
 
+    /// The outline band: keypoints within kOutlineBandPx of a mask edge (the square around
+    /// their pixel holds both mask and non-mask pixels), scored or not. If the decisions
+    /// there are flagged at the same rate on the person's side as beside it, nothing in them
+    /// tells the sides apart and the band's label is a coin flip for the score.
+    static constexpr int kOutlineBandPx = 3;
+    struct BandSide
+    {
+        size_t keypoints = 0, said = 0;
+        double saidFraction() const;  ///< 0 when there are none
+    };
+    BandSide bandOnMask, bandBesideMask;
+
     void add(bool truth, bool said);
     KeypointDetectionScore& operator+=(const KeypointDetectionScore& o);
     double recall() const;     ///< 1 when there is nothing to find
@@ -51,6 +63,7 @@ struct KeypointDetectionScore
 /// same size as the image). A table marked "# not evaluated" scores nothing (frames = 0).
 /// `edge_margin` > 0 leaves out (counts in nearEdge) the keypoints whose (2 edge_margin + 1)
 /// square around their pixel holds both mask and non-mask pixels; 0 scores every keypoint.
+/// The outline band (kOutlineBandPx) is counted whatever the margin.
 /// False positives are broken down by distance and by the table's evidence columns (flow,
 /// depth_test, region, semantic) where it has them.
 /// Throws core::InputError naming the file on unreadable or malformed input.
