@@ -359,6 +359,36 @@ TEST(EgoMotion, AWrongPriorDoesNotOverruleAWellSupportedPose)
         dynamic::estimateEgoMotionDepthPnp(few.previous, few.current, cam, dp, true, {}).valid);
 }
 
+// People fill the view and the background's keypoints were flagged on the reference frame:
+// three static matches are left beside twenty on a group of walkers. Their 8 cm jump has five
+// times the prior's support, but twenty matches are under ego_gate_min_support: the prior
+// stands (the crowd composite, frame 121: 18 walker matches made the camera jump 17 cm).
+TEST(EgoMotion, AFewMoversDoNotOverruleThePriorWhereTheBackgroundIsGone)
+{
+    const core::PinholeCamera cam = vgaCamera();
+    Eigen::Isometry3d camera = Eigen::Isometry3d::Identity();
+    camera.translate(Eigen::Vector3d(0.01, 0.0, 0.005));
+    Eigen::Isometry3d walkers = Eigen::Isometry3d::Identity();
+    walkers.translate(Eigen::Vector3d(0.08, 0.0, 0.0));
+    const TwoFrames t = twoFrames(cam, camera, walkers, 3, 20);
+    Eigen::Isometry3d prior = camera;
+    prior.translate(Eigen::Vector3d(0.004, 0.0, 0.0));
+    dynamic::DynamicParameters dp;
+    ASSERT_EQ(dp.ego_gate_min_support, 30);
+    const auto kept =
+        dynamic::estimateEgoMotionDepthPnp(t.previous, t.current, cam, dp, true, {}, prior);
+    ASSERT_TRUE(kept.valid);
+    EXPECT_TRUE(kept.fromPrior);
+    EXPECT_LT(translationError(kept.T_cur_prev, camera), 0.005);
+    // Any support overruling the prior (0): the walkers' motion is taken for the camera's.
+    dp.ego_gate_min_support = 0;
+    const auto pulled =
+        dynamic::estimateEgoMotionDepthPnp(t.previous, t.current, cam, dp, true, {}, prior);
+    ASSERT_TRUE(pulled.valid);
+    EXPECT_FALSE(pulled.fromPrior);
+    EXPECT_GT(translationError(pulled.T_cur_prev, camera), 0.05);
+}
+
 TEST(DynamicFilter, StrongModeEgoMotionIsRefinedOnTheFlowTracks)
 {
     // Default parameters: descriptor matches of 250 keypoints give the first estimate, the
@@ -633,5 +663,11 @@ TEST(DynamicParameters, InvalidValuesNameTheKey)
     dynamic::DynamicParameters p3;
     EXPECT_NE(test::inputErrorOf([&] { p3.loadFromConfigFile(cfg3, ""); })
                   .find("extraction_priority_above = 1.5"),
+              std::string::npos);
+    mrpt::config::CConfigFileMemory cfg4;
+    cfg4.write("dynamic", "ego_gate_min_support", -1);
+    dynamic::DynamicParameters p4;
+    EXPECT_NE(test::inputErrorOf([&] { p4.loadFromConfigFile(cfg4, ""); })
+                  .find("ego_gate_min_support = -1"),
               std::string::npos);
 }

@@ -38,6 +38,7 @@ core::OptionFields DynamicParameters::fields(const std::string& section)
         .add("ego_max_queries", ego_max_queries)
         .add("ego_gate_translation", ego_gate_translation)
         .add("ego_gate_rotation_deg", ego_gate_rotation_deg)
+        .add("ego_gate_min_support", ego_gate_min_support)
         .add("frame_gap", frame_gap)
         .add("strong_lk_window", strong_lk_window)
         .add("strong_lk_levels", strong_lk_levels)
@@ -84,6 +85,9 @@ void DynamicParameters::validateStrongMode() const
         throw core::InputError(mrpt::format(
             "[dynamic] ego_gate_translation = %g and ego_gate_rotation_deg = %g must be >= 0",
             ego_gate_translation, ego_gate_rotation_deg));
+    if (ego_gate_min_support < 0)
+        throw core::InputError(
+            mrpt::format("[dynamic] ego_gate_min_support = %d must be >= 0", ego_gate_min_support));
     if (!(tau_min > 0.0 && tau_min <= tau))
         throw core::InputError(
             mrpt::format("[dynamic] tau_min = %g must be in (0, tau = %g]", tau_min, tau));

@@ -303,8 +303,9 @@ void refineOnInliers(const Correspondences& c, const core::PinholeCamera& camera
 }
 
 /// Whether the prior (the previous frame's motion) beats the RANSAC pose: more support when
-/// RANSAC's pose is plausible under the constant-velocity gate, a quarter of its support when
-/// not.
+/// RANSAC's pose is plausible under the constant-velocity gate; when not, a quarter of its
+/// support, or RANSAC's support under ego_gate_min_support (a few matches on people must not
+/// make the camera jump).
 bool priorWins(const Eigen::Isometry3d& prior, const EgoMotion& ransac, const Correspondences& c,
                const core::PinholeCamera& camera, const DynamicParameters& params, double tolerance)
 {
@@ -315,7 +316,9 @@ bool priorWins(const Eigen::Isometry3d& prior, const EgoMotion& ransac, const Co
     const bool gated = params.ego_gate_translation > 0.0 && params.ego_gate_rotation_deg > 0.0;
     const bool plausible = !gated || (change.translation().norm() <= params.ego_gate_translation &&
                                       degrees <= params.ego_gate_rotation_deg);
-    return plausible ? priorSupport > ransacSupport : 4 * priorSupport >= ransacSupport;
+    if (plausible)
+        return priorSupport > ransacSupport;
+    return 4 * priorSupport >= ransacSupport || ransacSupport < params.ego_gate_min_support;
 }
 }  // namespace
 

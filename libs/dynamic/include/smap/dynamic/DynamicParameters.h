@@ -55,6 +55,10 @@ struct DynamicParameters : public mrpt::config::CLoadableOptions
     /// pose's support (then the prior was the wrong one). 0 = no gate.
     double ego_gate_translation = 0.03;
     double ego_gate_rotation_deg = 3.0;
+    /// A RANSAC pose beyond the gate overrules the prior only with at least this many
+    /// supporting matches: where people fill the view and the background's keypoints were
+    /// flagged, a dozen walker matches must not decide the camera's motion. 0 = any support.
+    int ego_gate_min_support = 30;
     /// Adaptive tau = clamp(median + tau_sigmas x 1.4826 MAD of the frame's residual flows,
     /// tau_min, tau).
     double tau_min = 2.0;
