@@ -648,26 +648,18 @@ TEST(DynamicResult, OnlyKeypointsWithAStaticMeasuredResidualAreMappable)
 
 TEST(DynamicParameters, InvalidValuesNameTheKey)
 {
-    mrpt::config::CConfigFileMemory cfg;
-    cfg.write("dynamic", "mode", "fancy");
-    dynamic::DynamicParameters p;
-    EXPECT_NE(test::inputErrorOf([&] { p.loadFromConfigFile(cfg, ""); }).find("fancy"),
+    // The error that loading [dynamic] `key` = `value` raises (empty when none).
+    const auto errorFor = [](const std::string& key, const std::string& value)
+    {
+        mrpt::config::CConfigFileMemory cfg;
+        cfg.write("dynamic", key, value);
+        dynamic::DynamicParameters p;
+        return test::inputErrorOf([&] { p.loadFromConfigFile(cfg, ""); });
+    };
+    EXPECT_NE(errorFor("mode", "fancy").find("fancy"), std::string::npos);
+    EXPECT_NE(errorFor("lk_window", "20").find("lk_window"), std::string::npos);
+    EXPECT_NE(errorFor("extraction_priority_above", "1.5").find("extraction_priority_above = 1.5"),
               std::string::npos);
-    mrpt::config::CConfigFileMemory cfg2;
-    cfg2.write("dynamic", "lk_window", 20);
-    dynamic::DynamicParameters p2;
-    EXPECT_NE(test::inputErrorOf([&] { p2.loadFromConfigFile(cfg2, ""); }).find("lk_window"),
-              std::string::npos);
-    mrpt::config::CConfigFileMemory cfg3;
-    cfg3.write("dynamic", "extraction_priority_above", 1.5);
-    dynamic::DynamicParameters p3;
-    EXPECT_NE(test::inputErrorOf([&] { p3.loadFromConfigFile(cfg3, ""); })
-                  .find("extraction_priority_above = 1.5"),
-              std::string::npos);
-    mrpt::config::CConfigFileMemory cfg4;
-    cfg4.write("dynamic", "ego_gate_min_support", -1);
-    dynamic::DynamicParameters p4;
-    EXPECT_NE(test::inputErrorOf([&] { p4.loadFromConfigFile(cfg4, ""); })
-                  .find("ego_gate_min_support = -1"),
+    EXPECT_NE(errorFor("ego_gate_min_support", "-1").find("ego_gate_min_support = -1"),
               std::string::npos);
 }

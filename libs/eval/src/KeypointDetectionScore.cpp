@@ -185,8 +185,12 @@ KeypointDetectionScore scoreKeypointFrame(const std::string& evidence_csv,
     const cv::Mat mask = cv::imread(mask_png, cv::IMREAD_UNCHANGED);
     if (mask.empty() || mask.type() != CV_8UC1)
         throw core::InputError("'" + mask_png + "' is not an 8-bit single-channel mask");
-    const cv::Mat nearEdge = edge_margin > 0 ? nearMaskEdge(mask, edge_margin) : cv::Mat();
     const cv::Mat band = nearMaskEdge(mask, KeypointDetectionScore::kOutlineBandPx);
+    cv::Mat nearEdge;
+    if (edge_margin > 0)
+        nearEdge = edge_margin == KeypointDetectionScore::kOutlineBandPx
+                       ? band
+                       : nearMaskEdge(mask, edge_margin);
     const EvidenceColumns columns(line);
     // Distance (px) of each pixel from the nearest mask pixel (0 on the mask), computed at the
     // frame's first false positive.
@@ -210,28 +214,26 @@ KeypointDetectionScore scoreKeypointFrame(const std::string& evidence_csv,
             throw core::InputError(mrpt::format(
                 "'%s' line %zu: '%s' is not a keypoint inside the %dx%d mask '%s'",
                 evidence_csv.c_str(), row, line.c_str(), mask.cols, mask.rows, mask_png.c_str()));
+        const int px = static_cast<int>(x), py = static_cast<int>(y);
         const bool said = cells.back() == "1";
-        if (band.at<uint8_t>(static_cast<int>(y), static_cast<int>(x)))
+        const bool truth = mask.at<uint8_t>(py, px) != 0;
+        if (band.at<uint8_t>(py, px))
         {
-            auto& side = mask.at<uint8_t>(static_cast<int>(y), static_cast<int>(x)) != 0
-                             ? score.bandOnMask
-                             : score.bandBesideMask;
+            auto& side = truth ? score.bandOnMask : score.bandBesideMask;
             side.keypoints++;
             side.said += said ? 1 : 0;
         }
-        if (!nearEdge.empty() && nearEdge.at<uint8_t>(static_cast<int>(y), static_cast<int>(x)))
+        if (!nearEdge.empty() && nearEdge.at<uint8_t>(py, px))
         {
             score.nearEdge++;
             continue;
         }
-        const bool truth = mask.at<uint8_t>(static_cast<int>(y), static_cast<int>(x)) != 0;
         score.add(truth, said);
         if (!truth && said)
         {
             if (distance.empty())
                 cv::distanceTransform(mask == 0, distance, cv::DIST_L2, cv::DIST_MASK_PRECISE);
-            countFalsePositive(score, distance, static_cast<int>(x), static_cast<int>(y),
-                               columns.of(cells));
+            countFalsePositive(score, distance, px, py, columns.of(cells));
         }
     }
     return score;
