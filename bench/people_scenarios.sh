@@ -46,16 +46,24 @@ keypoints() {
     "$bin/smap-eval" keypoints "$1/dynamic" "$2/dynamic" |
         awk '/recall/ {printf "%.3f / %.3f", $4, $6}'
 }
-ghosts() {  # free run, run, map file [composite] -> "x.xx %" [" (y.yy % where a person was)"]
+# ghosts free run, run, map file [composite] -> "x.xx %" and, on a composite, " (y.yy % where a
+# person was; on a person z.zzz %)", for an octomap " (y.yy % where a person was; on a person
+# seen free without people: N voxels)" (bench/map_ghosts.py)
+ghosts() {
     local people=()
     [ -n "${4:-}" ] && people=(--people "$4")
     "${SMAP_SYSTEM_PYTHON:-/usr/bin/python3}" "$root/bench/map_ghosts.py" "$1/$3" "$2/$3" "${people[@]}" |
         awk '/ghosts/ {for (i = 1; i <= NF; i++) {
                  if ($i == "ghosts") all = $(i + 2)
-                 if ($i == "was") near = $(i + 2)}
-             gsub(/[(;]/, "", all); gsub(/[(;]/, "", near)
+                 if ($i == "was") near = $(i + 2)
+                 if ($i == "surface") surf = $(i + 2)
+                 if ($i == "people" && $(i - 1) == "without") free = $(i + 1)}
+             gsub(/[(;,]/, "", all); gsub(/[(;,]/, "", near); gsub(/[(;,]/, "", surf)
              printf "%s %%", all
-             if (near != "") printf " (%s %% where a person was)", near
+             if (near != "" && free != "")
+                 printf " (%s %% where a person was; on a person seen free without people: %s voxels)", near, free
+             else if (near != "")
+                 printf " (%s %% where a person was; on a person %s %%)", near, surf
              exit}'
 }
 . "$root/bench/twins.sh"
