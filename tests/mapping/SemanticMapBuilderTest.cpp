@@ -1,6 +1,7 @@
 // SemanticMapBuilder: contributions in the camera frame, thinning, and re-anchoring at refined
 // poses against known geometry.
 #include <gtest/gtest.h>
+#include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/opengl/CPointCloudColoured.h>
 #include <mrpt/opengl/CSetOfObjects.h>
 
@@ -9,6 +10,7 @@
 #include <opencv2/core.hpp>
 
 #include "TestData.h"
+#include "smap/core/InputError.h"
 #include "smap/mapping/SemanticMapBuilder.h"
 
 using namespace smap;
@@ -376,6 +378,71 @@ TEST(SemanticMapBuilder, WhatAPersonLeftGoesOnceTheNewestViewOfItsPlaceSeesThrou
     }
 }
 
+TEST(SemanticMapBuilder, APersonWhoStaysWhereKeyframesSawThemLeavesTheMaps)
+{
+    // A person stands 0.2 m in front of the wall (30 x 40 px at 1.8 m: 17 x 23 cm, a narrow
+    // camera so that body samples every 4 px lie 2.3 cm apart) for four keyframes, 20 frames
+    // apart. Keyframes 0 and 3 label them person, spilling 2 px onto the wall around them, and
+    // Algorithm 1 drops them; keyframes 1 and 2 miss them (a back seen from behind): without the
+    // body test the two confirm each other, seeing the place clear of movers of their own, and
+    // the person stays in both maps. With it, everything within 4 cm of where keyframes 0 and 3
+    // saw their body goes; eroding the labels by the spill keeps the wall around them, without
+    // erosion the spilled labels (at the wall's depth, within 0.4 m of the person's) take wall
+    // points with them. A body seen by keyframe 0 alone (keyframe 3 misses it too) is not a
+    // person who stayed, as a walking person's outline is not: nothing goes.
+    const core::PinholeCamera narrow = test::centredCamera(80, 60, 320.0);
+    const cv::Rect person(20, 10, 30, 40);
+    maps::BackProjector::Images seen = wall();
+    seen.dynamicMask.setTo(0);
+    seen.labels.setTo(0);
+    seen.depth(person).setTo(1.8f);
+    seen.labels(cv::Rect(18, 8, 34, 44)).setTo(15);
+    seen.dynamicMask(person).setTo(255);
+    maps::BackProjector::Images missed = seen;
+    missed.labels = cv::Mat(seen.labels.size(), CV_8UC1, cv::Scalar(0));
+    missed.dynamicMask = cv::Mat(seen.dynamicMask.size(), CV_8UC1, cv::Scalar(0));
+    struct Result
+    {
+        size_t person = 0, personVoxels = 0, wall = 0, onBody = 0;
+    };
+    const auto run = [&](double radius, int erosion, bool seenAgain)
+    {
+        mapping::MapBuilderParameters p;
+        p.movable_body_radius = radius;
+        p.movable_body_erosion = erosion;
+        mapping::SemanticMapBuilder b(p, core::LabelSet::pascalVoc());
+        b.add(0, 0, 0.0, seen, narrow, mrpt::poses::CPose3D());
+        b.add(1, 20, 20 / 30.0, missed, narrow, mrpt::poses::CPose3D());
+        b.add(2, 40, 40 / 30.0, missed, narrow, mrpt::poses::CPose3D());
+        b.add(3, 60, 60 / 30.0, seenAgain ? seen : missed, narrow, mrpt::poses::CPose3D());
+        const auto r = b.reanchor([](const mapping::KeyFrameContribution&)
+                                  { return std::optional<mrpt::poses::CPose3D>(); });
+        Result out;
+        for (const auto& q : b.pointsMap().points())
+            (q.position.z() < 1.9f ? out.person : out.wall)++;
+        for (const auto& v : b.octoMap().occupiedVoxels())
+            out.personVoxels += v.centre.z() < 1.9f ? 1 : 0;
+        out.onBody = r.onBody;
+        return out;
+    };
+    const Result off = run(0.0, 2, true);
+    ASSERT_GT(off.person, 50U) << "keyframes 1 and 2 confirm what they saw of the person";
+    ASSERT_GT(off.personVoxels, 5U);
+    EXPECT_EQ(off.onBody, 0U);
+    const Result on = run(0.04, 2, true);
+    EXPECT_EQ(on.person, 0U);
+    EXPECT_EQ(on.personVoxels, 0U);
+    EXPECT_GE(on.onBody, off.person);
+    EXPECT_EQ(on.wall, off.wall) << "the wall around the person stays";
+    const Result unEroded = run(0.04, 0, true);
+    EXPECT_EQ(unEroded.person, 0U);
+    EXPECT_LT(unEroded.wall, off.wall) << "the labels spilled onto the wall take it with them";
+    const Result once = run(0.04, 2, false);
+    EXPECT_EQ(once.onBody, 0U);
+    EXPECT_EQ(once.person, run(0.0, 2, false).person);
+    EXPECT_GT(once.person, 50U);
+}
+
 TEST(SemanticMapBuilder, ALabelFileOfThirtyClassesKeepsClass25AndItsColour)
 {
     // A label file beyond PASCAL VOC's 21 classes: class 25 must reach both maps (the octomap's
@@ -424,6 +491,28 @@ TEST(SemanticMapBuilder, ALabelFileOfThirtyClassesKeepsClass25AndItsColour)
             ASSERT_EQ(c.R, 201);
             ASSERT_EQ(c.G, 17);
             ASSERT_EQ(c.B, 99);
+        }
+    }
+}
+
+TEST(MapBuilderParameters, MovableBodyValuesOutOfRangeNameTheKey)
+{
+    for (const auto& [key, value] : {std::pair{"movable_body_radius", "-0.1"},
+                                     {"movable_body_erosion", "-1"},
+                                     {"movable_body_prior", "-1"}})
+    {
+        mrpt::config::CConfigFileMemory cfg;
+        cfg.write("map", key, value);
+        mapping::MapBuilderParameters p;
+        try
+        {
+            p.loadFromConfigFile(cfg, "map");
+            ADD_FAILURE() << key << " = " << value << " was accepted";
+        }
+        catch (const core::InputError& e)
+        {
+            EXPECT_NE(std::string(e.what()).find(std::string("[map] ") + key), std::string::npos)
+                << e.what();
         }
     }
 }

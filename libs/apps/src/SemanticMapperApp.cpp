@@ -410,7 +410,8 @@ core::JsonValue mapSummary(const detail::MapperRun& s)
         .set("max_keyframe_correction_deg", s.reanchor.maxRotationDeg)
         .set("pruned_free_points", static_cast<uint64_t>(s.reanchor.pruned))
         .set("unconfirmed_near_movers", static_cast<uint64_t>(s.reanchor.unconfirmed))
-        .set("seen_through_near_movers", static_cast<uint64_t>(s.reanchor.seenThrough));
+        .set("seen_through_near_movers", static_cast<uint64_t>(s.reanchor.seenThrough))
+        .set("on_movable_bodies", static_cast<uint64_t>(s.reanchor.onBody));
     return mapj;
 }
 

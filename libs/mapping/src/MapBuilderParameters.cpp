@@ -33,6 +33,7 @@ void MapBuilderParameters::loadFromConfigFile(const mrpt::config::CConfigFileBas
     if (!(see_through_margin >= 0.0 && see_through_margin <= 2.0))
         throw core::InputError(mrpt::format(
             "[map] see_through_margin = %g must be in [0, 2] m (0: off)", see_through_margin));
+    loadMovableBody(cfg);
     if (confirm_span < 0)
         throw core::InputError(
             mrpt::format("[map] confirm_span = %d must be >= 0 frames", confirm_span));
@@ -55,6 +56,23 @@ void MapBuilderParameters::loadFromConfigFile(const mrpt::config::CConfigFileBas
     octoMap.loadFromConfigFile(cfg, "octomap");
 }
 
+void MapBuilderParameters::loadMovableBody(const mrpt::config::CConfigFileBase& cfg)
+{
+    const char* s = "map";
+    movable_body_radius = cfg.read_double(s, "movable_body_radius", movable_body_radius);
+    movable_body_erosion = cfg.read_int(s, "movable_body_erosion", movable_body_erosion);
+    movable_body_prior = cfg.read_double(s, "movable_body_prior", movable_body_prior);
+    if (!(movable_body_radius >= 0.0 && movable_body_radius <= 1.0))
+        throw core::InputError(mrpt::format(
+            "[map] movable_body_radius = %g must be in [0, 1] m (0: off)", movable_body_radius));
+    if (movable_body_erosion < 0 || movable_body_erosion > 100)
+        throw core::InputError(mrpt::format(
+            "[map] movable_body_erosion = %d must be in [0, 100] px", movable_body_erosion));
+    if (!(movable_body_prior >= 0.0))
+        throw core::InputError(mrpt::format(
+            "[map] movable_body_prior = %g must be >= 0 (above 1: no class)", movable_body_prior));
+}
+
 void MapBuilderParameters::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
                                             const std::string&) const
 {
@@ -71,6 +89,9 @@ void MapBuilderParameters::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
     cfg.write(s, "confirm_span", confirm_span);
     cfg.write(s, "confirm_clear_distance", confirm_clear_distance);
     cfg.write(s, "see_through_margin", see_through_margin);
+    cfg.write(s, "movable_body_radius", movable_body_radius);
+    cfg.write(s, "movable_body_erosion", movable_body_erosion);
+    cfg.write(s, "movable_body_prior", movable_body_prior);
     pointsMap.saveToConfigFile(cfg, "points_map");
     octoMap.saveToConfigFile(cfg, "octomap");
 }

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <memory>
 
+#include "BodyVoxels.h"
 #include "KeyFrameVoxels.h"
 #include "LatestView.h"
 #include "MoverVoxels.h"
@@ -28,7 +29,9 @@ std::pair<double, double> poseDifference(const mrpt::poses::CPose3D& a,
 
 SemanticMapBuilder::SemanticMapBuilder(const MapBuilderParameters& params,
                                        const core::LabelSet& labels)
-    : params_(params), projector_(params.pointsMap.projection)
+    : params_(params),
+      projector_(params.pointsMap.projection),
+      movable_(labels.movable(params.movable_body_prior))
 {
     pointsMap_.insertionOptions = params_.pointsMap;
     octoMap_.insertionOptions = params_.octoMap;
@@ -63,6 +66,8 @@ const KeyFrameContribution& SemanticMapBuilder::add(uint64_t keyframe, uint64_t 
     c.points_cam.shrink_to_fit();
     if (params_.prune_near_movers > 0.0)
         c.movers_cam = moverSamples(images, camera);
+    if (params_.movable_body_radius > 0.0)
+        c.bodies_cam = BodyVoxels::samples(images, camera, movable_, params_.movable_body_erosion);
     if (params_.prune_near_movers > 0.0 && params_.see_through_margin > 0.0)
         c.static_depth_cells = LatestView::staticDepthCells(
             images, params_.pointsMap.projection.min_depth, params_.pointsMap.projection.max_depth);
@@ -146,6 +151,7 @@ SemanticMapBuilder::ReanchorResult SemanticMapBuilder::reanchor(
     const auto keep = nearMoverFilter(dropped);
     r.unconfirmed = dropped.unconfirmed;
     r.seenThrough = dropped.seenThrough;
+    r.onBody = dropped.onBody;
     if (r.moved == 0 && !keep)
         return r;
     rebuild(keep ? &*keep : nullptr);
@@ -210,7 +216,7 @@ size_t SemanticMapBuilder::dropUnconfirmedNearMovers()
     const auto keep = nearMoverFilter(dropped);
     if (keep)
         rebuild(&*keep);
-    return dropped.unconfirmed + dropped.seenThrough;
+    return dropped.unconfirmed + dropped.seenThrough + dropped.onBody;
 }
 
 std::optional<SemanticMapBuilder::KeepMasks> SemanticMapBuilder::nearMoverFilter(
@@ -219,41 +225,65 @@ std::optional<SemanticMapBuilder::KeepMasks> SemanticMapBuilder::nearMoverFilter
     dropped = {};
     const bool confirm = params_.confirm_near_movers >= 2;
     const bool seeThrough = params_.see_through_margin > 0.0;
-    if ((!confirm && !seeThrough) || !(params_.prune_near_movers > 0.0) || contributions_.empty())
+    const bool nearTests = (confirm || seeThrough) && params_.prune_near_movers > 0.0;
+    const bool bodyTest = params_.movable_body_radius > 0.0;
+    if ((!nearTests && !bodyTest) || contributions_.empty())
         return std::nullopt;
-    const auto near = nearMovers();
     std::vector<std::vector<maps::SemanticPoint>> world;
     world.reserve(contributions_.size());
     for (const auto& c : contributions_)
         world.push_back(toWorld(c));
-    std::shared_ptr<const KeyFrameVoxels> voxels;
-    if (confirm)
-        voxels = confirmationVoxels(world, near);
-    std::optional<LatestView> latest;
-    if (seeThrough)
-        latest.emplace(contributions_, params_.see_through_margin);
+    const auto drop = dropTest(world, nearTests && confirm, nearTests && seeThrough, bodyTest);
     // Each point's fate once: the rebuild inserts by these masks.
     KeepMasks keep(world.size());
     for (size_t k = 0; k < world.size(); ++k)
     {
         keep[k].assign(world[k].size(), true);
         for (size_t i = 0; i < world[k].size(); ++i)
-        {
-            const Eigen::Vector3f& p = world[k][i].position;
-            if (!near(p))
-                continue;
-            if (voxels && !voxels->confirmed(p))
-                dropped.unconfirmed++;
-            else if (latest && latest->seenThrough(p))
-                dropped.seenThrough++;
-            else
-                continue;
-            keep[k][i] = false;
-        }
+            keep[k][i] = !drop(world[k][i].position, dropped);
     }
-    if (dropped.unconfirmed + dropped.seenThrough == 0)
+    if (dropped.unconfirmed + dropped.seenThrough + dropped.onBody == 0)
         return std::nullopt;
     return keep;
+}
+
+std::function<bool(const Eigen::Vector3f&, SemanticMapBuilder::NearMoverDrops&)>
+SemanticMapBuilder::dropTest(const std::vector<std::vector<maps::SemanticPoint>>& world,
+                             bool confirm, bool seeThrough, bool bodyTest) const
+{
+    std::function<bool(const Eigen::Vector3f&)> near;
+    if (confirm || seeThrough)
+        near = nearMovers();
+    std::shared_ptr<const KeyFrameVoxels> voxels;
+    if (confirm)
+        voxels = confirmationVoxels(world, near);
+    std::shared_ptr<const LatestView> latest;
+    if (seeThrough)
+        latest = std::make_shared<LatestView>(contributions_, params_.see_through_margin);
+    std::shared_ptr<BodyVoxels> bodies;
+    if (bodyTest)
+    {
+        bodies = std::make_shared<BodyVoxels>(params_.movable_body_radius,
+                                              static_cast<uint64_t>(params_.confirm_span));
+        for (const auto& c : contributions_)
+            bodies->add(c);
+    }
+    return [near, voxels, latest, bodies](const Eigen::Vector3f& p, NearMoverDrops& dropped)
+    {
+        if (bodies && bodies->near(p))
+        {
+            dropped.onBody++;
+            return true;
+        }
+        const bool nearMover = near && near(p);
+        if (nearMover && voxels && !voxels->confirmed(p))
+            dropped.unconfirmed++;
+        else if (nearMover && latest && latest->seenThrough(p))
+            dropped.seenThrough++;
+        else
+            return false;
+        return true;
+    };
 }
 
 std::shared_ptr<const KeyFrameVoxels> SemanticMapBuilder::confirmationVoxels(

@@ -25,11 +25,14 @@ struct KeyFrameContribution
     cv::Mat static_depth_cells;
     /// Where movers were: samples of the keyframe's dynamic pixels (M) with depth, camera frame.
     std::vector<Eigen::Vector3f> movers_cam;
+    /// Where it saw bodies of movable-class objects: samples of the inside of its movable-class
+    /// regions with depth, camera frame; empty unless [map] movable_body_radius > 0.
+    std::vector<Eigen::Vector3f> bodies_cam;
 
     size_t memoryBytes() const
     {
         return sizeof(*this) + points_cam.capacity() * sizeof(maps::SemanticPoint) +
-               movers_cam.capacity() * sizeof(Eigen::Vector3f) +
+               (movers_cam.capacity() + bodies_cam.capacity()) * sizeof(Eigen::Vector3f) +
                static_depth_cells.total() * static_depth_cells.elemSize();
     }
 };

@@ -55,6 +55,17 @@ struct MapBuilderParameters : public mrpt::config::CLoadableOptions
     /// surface in front of it is passed over): a person who stood there, or walked there and
     /// came back, has left, whatever earlier keyframes confirmed. 0 = off.
     double see_through_margin = 0.05;
+    /// A person who stands still is still a person: at the end of the run, a keyframe's point
+    /// within this distance (m) of where keyframes made confirm_span frames or more apart saw
+    /// the body of a movable-class object leaves the maps, though that keyframe's own
+    /// segmentation missed the person (a back seen from behind, a head cut by the image's
+    /// edge). A body is the pixels segmentation gave a class whose dynamic prior is at least
+    /// movable_body_prior, more than movable_body_erosion pixels inside their region (not the
+    /// outline, where labels spill onto the background), within 0.4 m of the region's median
+    /// depth. 0 = off.
+    double movable_body_radius = 0.04;
+    int movable_body_erosion = 6;     ///< px
+    double movable_body_prior = 0.5;  ///< above 1: no class
 
     /// [points_map] and [octomap]: the maps' own options (voxel size, resolution, sensor model,
     /// and the depth range / stride of back-projection, which the builder applies too).
@@ -69,5 +80,8 @@ struct MapBuilderParameters : public mrpt::config::CLoadableOptions
                             const std::string& section) override;
     void saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
                           const std::string& section) const override;
+
+private:
+    void loadMovableBody(const mrpt::config::CConfigFileBase& cfg);
 };
 }  // namespace smap::mapping

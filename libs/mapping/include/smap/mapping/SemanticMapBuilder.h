@@ -48,11 +48,14 @@ public:
         /// through by the newest keyframe that looked at their place (see_through_margin).
         size_t unconfirmed = 0;
         size_t seenThrough = 0;
+        /// Contribution points left out near where a keyframe saw a person's body
+        /// (movable_body_radius).
+        size_t onBody = 0;
     };
     /// `finalPose` gives each contribution's refined pose (nullopt: keep the insertion pose).
     /// The maps are rebuilt once when some keyframe moved beyond the tolerance or some point
-    /// near movers is unconfirmed or seen through (dropUnconfirmedNearMovers, done here at the
-    /// final poses).
+    /// near movers is unconfirmed or seen through, or lies on a body a keyframe saw
+    /// (dropUnconfirmedNearMovers, done here at the final poses).
     ReanchorResult reanchor(
         const std::function<std::optional<mrpt::poses::CPose3D>(const KeyFrameContribution&)>&
             finalPose);
@@ -65,7 +68,8 @@ public:
     /// With prune_near_movers > 0 and confirm_near_movers >= 2 or see_through_margin > 0:
     /// rebuilds both maps from the contributions at their current poses without the points
     /// near movers that fewer than confirm_near_movers keyframes confirm, or that the newest
-    /// keyframe looking at their place saw through (MapBuilderParameters). Returns how many
+    /// keyframe looking at their place saw through; with movable_body_radius > 0 also without
+    /// those on a body some keyframe saw (MapBuilderParameters). Returns how many
     /// contribution points were left out; the maps stay as they are when none is.
     size_t dropUnconfirmedNearMovers();
 
@@ -88,11 +92,18 @@ private:
     {
         size_t unconfirmed = 0;
         size_t seenThrough = 0;  ///< confirmed, but seen through since
+        size_t onBody = 0;       ///< near where a keyframe saw a movable-class body
     };
     /// The test of dropUnconfirmedNearMovers at the contributions' poses, decided once per
     /// point: nullopt when off or when it would drop nothing; `dropped` says how many
     /// contribution points it drops.
     std::optional<KeepMasks> nearMoverFilter(NearMoverDrops& dropped) const;
+    /// Per world point: whether the end-of-run tests drop it (counted in `dropped`): on a
+    /// movable-class body seen by a keyframe (`bodyTest`), else near movers and unconfirmed
+    /// (`confirm`) or seen through (`seeThrough`). `world`: each contribution at its pose.
+    std::function<bool(const Eigen::Vector3f&, NearMoverDrops&)> dropTest(
+        const std::vector<std::vector<maps::SemanticPoint>>& world, bool confirm, bool seeThrough,
+        bool bodyTest) const;
     /// Which keyframes put the points near movers (world: each contribution at its pose).
     std::shared_ptr<const KeyFrameVoxels> confirmationVoxels(
         const std::vector<std::vector<maps::SemanticPoint>>& world,
@@ -107,6 +118,7 @@ private:
 
     MapBuilderParameters params_;
     maps::BackProjector projector_;
+    std::vector<bool> movable_;  ///< per class id: movable_body_prior or more
     maps::CSemanticPointsMap pointsMap_;
     maps::CSemanticOctoMap octoMap_;
     std::vector<KeyFrameContribution> contributions_;

@@ -1,0 +1,134 @@
+#include "BodyVoxels.h"
+
+#include <algorithm>
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+
+#include "KeyFrameVoxels.h"
+
+namespace smap::mapping
+{
+namespace
+{
+constexpr int kStep = 4;  ///< px between body samples
+
+/// CV_8UC1: 255 where the class is movable, eroded by `erosion` px (beyond the image's border
+/// counts as body: a person cut by it keeps that edge).
+cv::Mat movableInside(const cv::Mat& labels, const std::vector<bool>& movable, int erosion)
+{
+    cv::Mat body(labels.size(), CV_8UC1, cv::Scalar(0));
+    for (int v = 0; v < body.rows; ++v)
+    {
+        const auto* l = labels.ptr<uint8_t>(v);
+        auto* b = body.ptr<uint8_t>(v);
+        for (int u = 0; u < body.cols; ++u)
+            b[u] = l[u] < movable.size() && movable[l[u]] ? 255 : 0;
+    }
+    if (erosion > 0)
+        cv::erode(body, body,
+                  cv::getStructuringElement(cv::MORPH_RECT, {2 * erosion + 1, 2 * erosion + 1}),
+                  {-1, -1}, 1, cv::BORDER_CONSTANT, cv::Scalar(255));
+    return body;
+}
+
+/// The median depth of each region (connected component) of `regions` over the sample grid
+/// (0 where it has none).
+std::vector<float> regionMedianDepths(const cv::Mat& regions, int count, const cv::Mat& depth)
+{
+    std::vector<std::vector<float>> depths(static_cast<size_t>(count));
+    for (int v = kStep / 2; v < regions.rows; v += kStep)
+    {
+        for (int u = kStep / 2; u < regions.cols; u += kStep)
+        {
+            const int r = regions.at<int>(v, u);
+            const float z = depth.at<float>(v, u);
+            if (r > 0 && z > 0.0F)
+                depths[static_cast<size_t>(r)].push_back(z);
+        }
+    }
+    std::vector<float> medians(depths.size(), 0.0F);
+    for (size_t r = 0; r < depths.size(); ++r)
+    {
+        auto& d = depths[r];
+        if (d.empty())
+            continue;
+        std::nth_element(d.begin(), d.begin() + static_cast<long>(d.size() / 2), d.end());
+        medians[r] = d[d.size() / 2];
+    }
+    return medians;
+}
+}  // namespace
+
+std::vector<Eigen::Vector3f> BodyVoxels::samples(const maps::BackProjector::Images& images,
+                                                 const core::PinholeCamera& camera,
+                                                 const std::vector<bool>& movable, int erosion)
+{
+    std::vector<Eigen::Vector3f> out;
+    if (images.labels.empty() || images.depth.empty())
+        return out;
+    cv::Mat regions;
+    const int count =
+        cv::connectedComponents(movableInside(images.labels, movable, erosion), regions, 8, CV_32S);
+    const std::vector<float> medians = regionMedianDepths(regions, count, images.depth);
+    for (int v = kStep / 2; v < regions.rows; v += kStep)
+    {
+        for (int u = kStep / 2; u < regions.cols; u += kStep)
+        {
+            const int r = regions.at<int>(v, u);
+            const float z = images.depth.at<float>(v, u);
+            if (r > 0 && z > 0.0F && std::abs(z - medians[static_cast<size_t>(r)]) <= kDepthSpan)
+                out.push_back(camera.unproject(u, v, z).cast<float>());
+        }
+    }
+    return out;
+}
+
+BodyVoxels::BodyVoxels(double radius, uint64_t span) : radius_(radius), span_(span) {}
+
+int64_t BodyVoxels::cell(float a) const
+{
+    return static_cast<int64_t>(std::floor(a / radius_));
+}
+
+void BodyVoxels::add(const KeyFrameContribution& c)
+{
+    for (const auto& b : c.bodies_cam)
+    {
+        double x = 0, y = 0, z = 0;
+        c.T_world_cam.composePoint(b.x(), b.y(), b.z(), x, y, z);
+        const Eigen::Vector3f w(static_cast<float>(x), static_cast<float>(y),
+                                static_cast<float>(z));
+        cells_[voxelKey(cell(w.x()), cell(w.y()), cell(w.z()))].push_back({w, c.frameId});
+    }
+}
+
+bool BodyVoxels::near(const Eigen::Vector3f& p) const
+{
+    // The voxel edge is the radius: every sample within it lies in the 27 voxels around p's.
+    const auto r2 = static_cast<float>(radius_ * radius_);
+    const int64_t cx = cell(p.x()), cy = cell(p.y()), cz = cell(p.z());
+    uint64_t first = UINT64_MAX, last = 0;
+    for (int64_t dx = -1; dx <= 1; ++dx)
+    {
+        for (int64_t dy = -1; dy <= 1; ++dy)
+        {
+            for (int64_t dz = -1; dz <= 1; ++dz)
+            {
+                const auto it = cells_.find(voxelKey(cx + dx, cy + dy, cz + dz));
+                if (it == cells_.end())
+                    continue;
+                for (const auto& s : it->second)
+                {
+                    if ((s.position - p).squaredNorm() > r2)
+                        continue;
+                    first = std::min(first, s.frame);
+                    last = std::max(last, s.frame);
+                    if (last - first >= span_)
+                        return true;
+                }
+            }
+        }
+    }
+    return false;
+}
+}  // namespace smap::mapping

@@ -1,0 +1,53 @@
+// Where keyframes saw the bodies of movable-class objects (people), as samples hashed by voxel:
+// the test of [map] movable_body_radius (SemanticMapBuilder). Private to libs/mapping.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+#include "smap/mapping/KeyFrameContribution.h"
+#include "smap/maps/BackProjector.h"
+
+namespace smap::mapping
+{
+class BodyVoxels
+{
+public:
+    /// A keyframe's body samples (camera frame, one every 4 px): the pixels whose class is
+    /// `movable`, more than `erosion` px inside their region (labels spill onto the background
+    /// at outlines), with depth within kDepthSpan of their region's median depth (the
+    /// background seen between an arm and the body, or between the legs, is not body).
+    static std::vector<Eigen::Vector3f> samples(const maps::BackProjector::Images& images,
+                                                const core::PinholeCamera& camera,
+                                                const std::vector<bool>& movable, int erosion);
+    /// m: how far from its region's median depth a body sample may lie (a person is at most
+    /// about half a metre deep).
+    static constexpr float kDepthSpan = 0.4F;
+
+    /// `radius`: how near a body sample a point must lie (m); also the voxel edge. `span`:
+    /// frames over which keyframes must have seen a body there (a person who stayed).
+    BodyVoxels(double radius, uint64_t span);
+
+    /// c's body samples at c's pose.
+    void add(const KeyFrameContribution& c);
+    /// Whether the world point p lies within the radius of body samples of keyframes made at
+    /// least `span` frames apart: a person stayed there (a walking person's outline, where
+    /// labels spill onto the background, is somewhere else a moment later).
+    bool near(const Eigen::Vector3f& p) const;
+    bool empty() const { return cells_.empty(); }
+
+private:
+    int64_t cell(float a) const;
+
+    struct Sample
+    {
+        Eigen::Vector3f position;
+        uint64_t frame = 0;  ///< of the keyframe that saw it
+    };
+    double radius_;
+    uint64_t span_;
+    std::unordered_map<int64_t, std::vector<Sample>> cells_;
+};
+}  // namespace smap::mapping
