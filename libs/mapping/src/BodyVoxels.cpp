@@ -16,15 +16,12 @@ constexpr int kStep = 4;  ///< px between body samples
 /// counts as body: a person cut by it keeps that edge).
 cv::Mat movableInside(const cv::Mat& labels, const std::vector<bool>& movable, int erosion)
 {
-    cv::Mat body(labels.size(), CV_8UC1, cv::Scalar(0));
-    for (int v = 0; v < body.rows; ++v)
-    {
-        const auto* l = labels.ptr<uint8_t>(v);
-        auto* b = body.ptr<uint8_t>(v);
-        for (int u = 0; u < body.cols; ++u)
-            b[u] = l[u] < movable.size() && movable[l[u]] ? 255 : 0;
-    }
-    if (erosion > 0)
+    cv::Mat table(1, 256, CV_8UC1, cv::Scalar(0));
+    for (size_t id = 0; id < std::min<size_t>(movable.size(), 256); ++id)
+        table.at<uint8_t>(0, static_cast<int>(id)) = movable[id] ? 255 : 0;
+    cv::Mat body;
+    cv::LUT(labels, table, body);
+    if (erosion > 0 && cv::countNonZero(body) > 0)
         cv::erode(body, body,
                   cv::getStructuringElement(cv::MORPH_RECT, {2 * erosion + 1, 2 * erosion + 1}),
                   {-1, -1}, 1, cv::BORDER_CONSTANT, cv::Scalar(255));
@@ -66,9 +63,11 @@ std::vector<Eigen::Vector3f> BodyVoxels::samples(const maps::BackProjector::Imag
     std::vector<Eigen::Vector3f> out;
     if (images.labels.empty() || images.depth.empty())
         return out;
+    const cv::Mat inside = movableInside(images.labels, movable, erosion);
+    if (cv::countNonZero(inside) == 0)  // no movable object: most keyframes
+        return out;
     cv::Mat regions;
-    const int count =
-        cv::connectedComponents(movableInside(images.labels, movable, erosion), regions, 8, CV_32S);
+    const int count = cv::connectedComponents(inside, regions, 8, CV_32S);
     const std::vector<float> medians = regionMedianDepths(regions, count, images.depth);
     for (int v = kStep / 2; v < regions.rows; v += kStep)
     {
@@ -98,7 +97,23 @@ void BodyVoxels::add(const KeyFrameContribution& c)
         c.T_world_cam.composePoint(b.x(), b.y(), b.z(), x, y, z);
         const Eigen::Vector3f w(static_cast<float>(x), static_cast<float>(y),
                                 static_cast<float>(z));
-        cells_[voxelKey(cell(w.x()), cell(w.y()), cell(w.z()))].push_back({w, c.frameId});
+        const int64_t cx = cell(w.x()), cy = cell(w.y()), cz = cell(w.z());
+        auto& samples = cells_[voxelKey(cx, cy, cz)];
+        if (samples.empty())
+            addReach(cx, cy, cz);
+        samples.push_back({w, c.frameId});
+    }
+}
+
+void BodyVoxels::addReach(int64_t cx, int64_t cy, int64_t cz)
+{
+    for (int64_t dx = -1; dx <= 1; ++dx)
+    {
+        for (int64_t dy = -1; dy <= 1; ++dy)
+        {
+            for (int64_t dz = -1; dz <= 1; ++dz)
+                reach_.insert(voxelKey(cx + dx, cy + dy, cz + dz));
+        }
     }
 }
 
@@ -107,6 +122,8 @@ bool BodyVoxels::near(const Eigen::Vector3f& p) const
     // The voxel edge is the radius: every sample within it lies in the 27 voxels around p's.
     const auto r2 = static_cast<float>(radius_ * radius_);
     const int64_t cx = cell(p.x()), cy = cell(p.y()), cz = cell(p.z());
+    if (reach_.count(voxelKey(cx, cy, cz)) == 0)
+        return false;
     uint64_t first = UINT64_MAX, last = 0;
     for (int64_t dx = -1; dx <= 1; ++dx)
     {

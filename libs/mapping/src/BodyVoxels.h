@@ -5,6 +5,7 @@
 #include <Eigen/Core>
 #include <cstdint>
 #include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 #include "smap/mapping/KeyFrameContribution.h"
@@ -40,6 +41,8 @@ public:
 
 private:
     int64_t cell(float a) const;
+    /// Marks voxel (cx, cy, cz) and its 26 neighbours in reach_.
+    void addReach(int64_t cx, int64_t cy, int64_t cz);
 
     struct Sample
     {
@@ -49,5 +52,8 @@ private:
     double radius_;
     uint64_t span_;
     std::unordered_map<int64_t, std::vector<Sample>> cells_;
+    /// The voxels with samples and their 26 neighbours: one lookup answers "none near" for
+    /// most points.
+    std::unordered_set<int64_t> reach_;
 };
 }  // namespace smap::mapping

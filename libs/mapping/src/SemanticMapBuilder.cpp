@@ -267,6 +267,8 @@ SemanticMapBuilder::dropTest(const std::vector<std::vector<maps::SemanticPoint>>
                                               static_cast<uint64_t>(params_.confirm_span));
         for (const auto& c : contributions_)
             bodies->add(c);
+        if (bodies->empty())  // no keyframe saw a movable object
+            bodies.reset();
     }
     return [near, voxels, latest, bodies](const Eigen::Vector3f& p, NearMoverDrops& dropped)
     {
