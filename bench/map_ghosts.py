@@ -10,15 +10,16 @@ coverage (its points with a MAP point within --distance: what removing the peopl
 Both maps must share the world frame, which semantic-mapper's do when both runs start at the
 same frame (world = first tracked camera).
 
-With --people COMPOSITE (an smap-synth --composite-onto folder), the ghosts are also split by
-where they are: "where a person was" are those within 0.5 m of the vertical axis of a person
-(from the feet up to 2 m, along meta.json's world_up) at some frame of objects/person*.txt,
+With --people COMPOSITE (an smap-synth folder: a --composite-onto composite or a preset), the
+ghosts are also split by where they are: "where a person was" are those within 0.5 m of the
+vertical axis of a person (from the feet up to 2 m, along meta.json's world_up, or z for a
+preset, whose world is z up) at some frame of objects/person*.txt,
 the issue's definition of people left in the map (points where a person was that the
 people-free run does not produce); the rest are the two runs' other differences. The map is
 put in the composite's world frame by the run's trajectory.txt beside it (its first pose
 against the composite's groundtruth.txt). Stricter, "on a person's surface" are the ghosts
-where the composite drew a person at some frame (its dynamic/ mask pixels at their exact depth,
-by the ground-truth pose): a point within 2 cm of such a sample, a voxel holding one. For an
+where the folder drew a person at some frame (its labels/ pixels of class person, PASCAL VOC 15,
+at their exact depth, by the ground-truth pose: every person, standing, walking or seated): a point within 2 cm of such a sample, a voxel holding one. For an
 octomap, those whose place the people-free run saw free (a free leaf of its .bt) are people
 left in the map: the other run shows the place empty, and a person was drawn there.
 
@@ -151,6 +152,16 @@ def read_tum(path):
     return poses
 
 
+def world_up(meta_path):
+    """The world's up vector: a composite's meta.json names it; a preset's world is z up."""
+    meta = json.load(open(meta_path))
+    if "world_up" in meta:
+        return meta["world_up"]
+    if str(meta.get("world_frame", "")).lower().startswith("z up"):
+        return [0.0, 0.0, 1.0]
+    sys.exit("%s: neither world_up nor a 'Z up' world_frame" % meta_path)
+
+
 class PeoplePaths:
     """Where the composite's people were: their feet positions (every frame) and world up."""
 
@@ -158,7 +169,7 @@ class PeoplePaths:
 
     def __init__(self, composite):
         self.truth = read_tum(os.path.join(composite, "groundtruth.txt"))
-        self.up = np.array(json.load(open(os.path.join(composite, "meta.json")))["world_up"])
+        self.up = np.array(world_up(os.path.join(composite, "meta.json")))
         feet = [t for f in sorted(glob.glob(os.path.join(composite, "objects", "person*.txt")))
                 for _, t in read_tum(f).values()]
         if not feet:
@@ -209,12 +220,13 @@ def read_ini(path):
 
 
 class PersonSurfaces:
-    """Where the composite drew a person: the pixels of its dynamic/ masks with their depth
-    (exact for people), back-projected by each frame's ground-truth pose into the world frame
+    """Where the folder drew a person: the pixels of class person in its labels/ images with
+    their depth (exact for people), back-projected by each frame's ground-truth pose into the world frame
     and kept once per cell of STEP metres. A map element within reach of these samples lies on
     a person's surface, not merely near a person's path."""
 
     STEP, STRIDE = 0.01, 2  # metres; every STRIDE-th pixel in each direction
+    PERSON = 15  # PASCAL VOC's person, smap-synth's label for every person it draws
 
     def __init__(self, composite, truth):
         import cv2  # Debian python3-opencv; only --people needs it
@@ -228,10 +240,11 @@ class PersonSurfaces:
             stamp, _, _, depth_name = line.split()
             pose = truth.get(round(float(stamp), 4))
             name = os.path.basename(depth_name)
-            mask = cv2.imread(os.path.join(composite, "dynamic", name), cv2.IMREAD_UNCHANGED)
+            labels = cv2.imread(os.path.join(composite, "labels", name), cv2.IMREAD_UNCHANGED)
+            mask = None if labels is None else (labels == self.PERSON)
             depth = cv2.imread(os.path.join(composite, depth_name), cv2.IMREAD_UNCHANGED)
             if pose is None or mask is None or depth is None:
-                sys.exit("%s: frame %s has no ground truth, dynamic mask or depth"
+                sys.exit("%s: frame %s has no ground truth, label image or depth"
                          % (composite, stamp))
             cells.append(self.frame_cells(mask, depth / factor, cam, pose))
         cells = np.unique(np.concatenate(cells), axis=0) if cells else np.zeros((0, 3))
@@ -239,7 +252,7 @@ class PersonSurfaces:
         self.cloud = o3d.geometry.PointCloud(o3d.utility.Vector3dVector(self.points))
 
     def frame_cells(self, mask, depth, cam, pose):
-        v, u = np.nonzero((mask[::self.STRIDE, ::self.STRIDE] > 0) &
+        v, u = np.nonzero(mask[::self.STRIDE, ::self.STRIDE] &
                           (depth[::self.STRIDE, ::self.STRIDE] > 0))
         v, u = v * self.STRIDE, u * self.STRIDE
         z = depth[v, u]
@@ -301,7 +314,8 @@ def main():
     ap.add_argument("reference")
     ap.add_argument("maps", nargs="+")
     ap.add_argument("--distance", type=float, default=0.05, help="metres (default 0.05)")
-    ap.add_argument("--people", help="the composite folder: split ghosts by where people were")
+    ap.add_argument("--people", help="the smap-synth folder (composite or preset): split "
+                    "ghosts by where people were")
     a = ap.parse_args()
     people = PeoplePaths(a.people) if a.people else None
     if a.reference.endswith(".bt"):

@@ -9,7 +9,7 @@
 # (the SfM reference for 7-Scenes), whether it is within max(1.5 x, + 1 cm) of the people-free
 # run, dynamic-keypoint recall / precision (default modes), and the people left in the point
 # map and in the octomap's occupied voxels (bench/map_ghosts.py against the people-free maps,
-# with the share where a person was on the composites; default modes).
+# with the shares where a person was and on a person, composites and presets; default modes).
 # Usage: bench/people_scenarios.sh [BUILD_DIR] [extra semantic-mapper args...]
 #   SMAP_SCENARIOS="NAME:FRAMES[:DISTANCE_SCALE] ..." (default: crossing:300 crowd:234
 #   crowd:234:1.7 seated:500 stop_and_stay:450; smap-synth --distance-scale, 1.7 puts the crowd
@@ -46,7 +46,8 @@ keypoints() {
     "$bin/smap-eval" keypoints "$1/dynamic" "$2/dynamic" |
         awk '/recall/ {printf "%.3f / %.3f", $4, $6}'
 }
-# ghosts free run, run, map file [composite] -> "x.xx %" and, on a composite, " (y.yy % where a
+# ghosts free run, run, map file [folder] -> "x.xx %" and, given the smap-synth folder (composite
+# or preset), " (y.yy % where a
 # person was; on a person z.zzz %)", for an octomap " (y.yy % where a person was; on a person
 # seen free without people: N voxels)" (bench/map_ghosts.py)
 ghosts() {
@@ -74,7 +75,7 @@ render() {  # preset -> its folder (300 frames, cached)
     echo "$dir"
 }
 
-# rows NAME FRAMES DIR CONFIG FREE_RUN FREE_ATE COMPOSITE|"" [args]: the four runs with people
+# rows NAME FRAMES DIR CONFIG FREE_RUN FREE_ATE FOLDER|"" [args]: the four runs with people
 rows() {
     local name="$1" frames="$2" dir="$3" config="$4" free="$5" freeAte="$6" composite="$7"
     shift 7
@@ -130,5 +131,5 @@ for p in $presets; do
     track "$tdir" "$synthetic" "$free" "$@"
     freeAte="$(rmse "$tdir/groundtruth.txt" "$free/trajectory.txt")"
     echo "| $p | 300 | no people ($t) | $(grep -vc '^#' "$free/trajectory.txt") | $freeAte | - | - | - | - |"
-    rows "$p" 300 "$dir" "$synthetic" "$free" "$freeAte" "" "$@"
+    rows "$p" 300 "$dir" "$synthetic" "$free" "$freeAte" "$dir" "$@"
 done
