@@ -1,6 +1,7 @@
 #include "smap/segmentation/SegmentationParameters.h"
 
 #include <mrpt/config/CConfigFileBase.h>
+#include <mrpt/core/format.h>
 
 #include <filesystem>
 #include <system_error>
@@ -20,6 +21,14 @@ void SegmentationParameters::loadFromConfigFile(const mrpt::config::CConfigFileB
     if (backend != "onnx" && backend != "label_images" && backend != "none")
         throw core::InputError("[segmentation] backend = '" + backend +
                                "' is not one of: onnx, label_images, none");
+    zoom.crops = cfg.read_int(s, "zoom_crops", zoom.crops);
+    zoom.min_prior = cfg.read_double(s, "zoom_min_prior", zoom.min_prior);
+    if (zoom.crops < 0 || zoom.crops > 8)
+        throw core::InputError(mrpt::format(
+            "[segmentation] zoom_crops = %d must be in [0, 8] (0 disables the zoom)", zoom.crops));
+    if (!(zoom.min_prior >= 0.0 && zoom.min_prior <= 1.0))
+        throw core::InputError(
+            mrpt::format("[segmentation] zoom_min_prior = %g must be in [0, 1]", zoom.min_prior));
     onnx.loadFromConfigFile(cfg, "onnx");
     label_images.loadFromConfigFile(cfg, "label_images");
     crf.loadFromConfigFile(cfg, "crf");
@@ -30,6 +39,8 @@ void SegmentationParameters::saveToConfigFile(mrpt::config::CConfigFileBase& cfg
 {
     cfg.write("segmentation", "backend", backend);
     cfg.write("segmentation", "labels", labels);
+    cfg.write("segmentation", "zoom_crops", zoom.crops);
+    cfg.write("segmentation", "zoom_min_prior", zoom.min_prior);
     onnx.saveToConfigFile(cfg, "onnx");
     label_images.saveToConfigFile(cfg, "label_images");
     crf.saveToConfigFile(cfg, "crf");
@@ -71,7 +82,11 @@ std::unique_ptr<Segmenter> makeSegmenter(const SegmentationParameters& params)
         throw core::InputError("no [onnx] model configured and the shipped model " +
                                shippedModelPath() + " does not exist");
     if (params.backend == "onnx")
+    {
         s = std::make_unique<OnnxSegmenter>(withModel.onnx, std::move(labels));
+        if (params.zoom.crops > 0)
+            s = std::make_unique<ZoomSegmenter>(std::move(s), params.zoom);
+    }
     else
         s = std::make_unique<LabelImageSegmenter>(params.label_images, std::move(labels));
     if (params.crf.enabled)

@@ -10,6 +10,7 @@
 #include "smap/segmentation/DenseCrf.h"
 #include "smap/segmentation/LabelImageSegmenter.h"
 #include "smap/segmentation/OnnxSegmenter.h"
+#include "smap/segmentation/ZoomSegmenter.h"
 
 namespace smap::segmentation
 {
@@ -23,6 +24,8 @@ struct SegmentationParameters : public mrpt::config::CLoadableOptions
     OnnxSegmenterParameters onnx;
     LabelImageParameters label_images;
     DenseCrfParameters crf;
+    /// zoom_crops, zoom_min_prior: the second look at movable-class regions (onnx only).
+    ZoomParameters zoom;
 
     void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg,
                             const std::string& section) override;
@@ -43,7 +46,8 @@ std::string shippedModelPath();
 /// are. True without a change for every other configuration.
 bool useShippedModelIfUnset(SegmentationParameters& params);
 
-/// The configured backend, wrapped in the dense CRF when [crf] enabled; nullptr for "none". An
+/// The configured backend, an onnx one with its second look at people (ZoomSegmenter) when
+/// zoom_crops > 0, wrapped in the dense CRF when [crf] enabled; nullptr for "none". An
 /// onnx backend without a model uses the shipped one (useShippedModelIfUnset). Throws
 /// core::InputError for a bad or missing model, folder or label table.
 std::unique_ptr<Segmenter> makeSegmenter(const SegmentationParameters& params);
