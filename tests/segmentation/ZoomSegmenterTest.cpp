@@ -149,6 +149,13 @@ TEST(ZoomSegmenter, FindsWhatTheFirstPassMissesOnlyNearPeople)
     const SegmentationResult none = zoom.segmentNative(empty);
     EXPECT_EQ(network->passes, 1) << "no person, no second look";
     EXPECT_EQ(cv::countNonZero(none.labels != kBackground), 0);
+
+    core::RgbdFrame small = f;
+    cv::resize(f.colour, small.colour, cv::Size(100, 75), 0, 0, cv::INTER_AREA);
+    network->passes = 0;
+    zoom.segmentNative(small);
+    EXPECT_EQ(network->passes, 1)
+        << "100x75 is less than twice 64x48: a crop would only enlarge the same pixels";
 }
 
 TEST(ZoomSegmenter, ConfigKeysAreCheckedAndZeroLeavesItOut)

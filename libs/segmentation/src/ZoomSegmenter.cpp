@@ -115,6 +115,10 @@ ZoomSegmenter::ZoomSegmenter(std::unique_ptr<Segmenter> inner, const ZoomParamet
 SegmentationResult ZoomSegmenter::segmentNative(const core::RgbdFrame& frame)
 {
     SegmentationResult first = inner_->segmentNative(frame);
+    // A crop of half the frame must hold at least the network's input: on a smaller frame the
+    // second look would only see the same pixels enlarged.
+    if (frame.colour.cols < 2 * first.width() || frame.colour.rows < 2 * first.height())
+        return first;
     const std::vector<cv::Rect> windows =
         zoomWindows(first.labels, movable_, frame.colour.size(), params_.crops);
     for (const cv::Rect& w : windows)

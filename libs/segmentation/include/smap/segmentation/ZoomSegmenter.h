@@ -46,7 +46,8 @@ public:
     /// colour image; a crop's probabilities, resampled to the window's place in the first
     /// pass's grid, replace the first pass's at the pixels where they give the movable classes
     /// more probability (the labels follow): the closer look adds what the first pass missed
-    /// and removes nothing it found.
+    /// and removes nothing it found. No crop on a frame smaller than twice the inner
+    /// segmenter's working resolution (its crops would only enlarge the same pixels).
     SegmentationResult segmentNative(const core::RgbdFrame& frame) override;
     std::string description() const override;
     Segmenter& inner() { return *inner_; }
