@@ -379,3 +379,32 @@ TEST(RawlogSource, AbsurdSizesInADamagedRawlogAreDamageNotACrash)
     }
     EXPECT_NE(outcome.find("found.rawlog"), std::string::npos) << outcome;
 }
+
+TEST(RawlogSource, ADamagedJpegImageIsDamageNotTheEndOfTheProcess)
+{
+    // The fuzzer's find: a piece of the sample rawlog whose embedded JPEG image is damaged.
+    // MRPT decodes it with libjpeg's default error handler, which called exit(); now the
+    // rawlog ends there as damaged (JpegErrorGuard.cpp). Were exit() still called, this test
+    // program would end here and the test fail.
+    test::TempDir dir;
+    const std::string rawlog = dir / "jpeg.rawlog";
+    fs::copy_file(test::sourceDir() + "/tests/fuzz/seeds/fuzz_rawlog/regression-damaged-jpeg",
+                  rawlog);
+    fs::create_directory_symlink(test::sourceDir() + "/rawlogs/sample_walking_xyz_Images",
+                                 dir / "jpeg_Images");
+    std::string outcome = "no error";
+    try
+    {
+        io::RawlogSource src(rawlog, {});
+        while (src.read())
+        {
+        }
+        outcome = src.endedEarly();
+    }
+    catch (const core::InputError& e)
+    {
+        outcome = e.what();
+    }
+    EXPECT_NE(outcome.find("jpeg.rawlog"), std::string::npos) << outcome;
+    EXPECT_NE(outcome.find("CImage"), std::string::npos) << outcome;  // the damaged image
+}
