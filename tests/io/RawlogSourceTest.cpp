@@ -347,6 +347,33 @@ TEST(RawlogSource, CameraOverrideReplacesObservationIntrinsics)
         << skipped[0].reason;
 }
 
+namespace
+{
+/// Reads the fuzz_rawlog seed `seed` to its end as `<name>.rawlog` (the sample's images folder
+/// beside it): the early end it reports, the InputError's message, or "no error".
+std::string outcomeOfFuzzSeed(const std::string& seed, const std::string& name)
+{
+    test::TempDir dir;
+    const std::string rawlog = dir / (name + ".rawlog");
+    fs::copy_file(test::sourceDir() + "/tests/fuzz/seeds/fuzz_rawlog/" + seed, rawlog);
+    fs::create_directory_symlink(test::sourceDir() + "/rawlogs/sample_walking_xyz_Images",
+                                 dir / (name + "_Images"));
+    try
+    {
+        io::RawlogSource src(rawlog, {});
+        while (src.read())
+        {
+        }
+        const std::string ended = src.endedEarly();
+        return ended.empty() ? "no error" : ended;
+    }
+    catch (const core::InputError& e)
+    {
+        return e.what();
+    }
+}
+}  // namespace
+
 TEST(RawlogSource, AbsurdSizesInADamagedRawlogAreDamageNotACrash)
 {
     // MRPT 2.5 writes through the null pointer of a failed aligned allocation; ours throws.
@@ -358,25 +385,7 @@ TEST(RawlogSource, AbsurdSizesInADamagedRawlogAreDamageNotACrash)
 
     // The fuzzer's find: a piece of the sample rawlog whose range image claims terabytes. It
     // crashed the reader (SIGSEGV in MRPT); now the rawlog ends there as damaged.
-    test::TempDir dir;
-    const std::string rawlog = dir / "found.rawlog";
-    fs::copy_file(test::sourceDir() + "/tests/fuzz/seeds/fuzz_rawlog/regression-range-image-size",
-                  rawlog);
-    fs::create_directory_symlink(test::sourceDir() + "/rawlogs/sample_walking_xyz_Images",
-                                 dir / "found_Images");
-    std::string outcome = "no error";
-    try
-    {
-        io::RawlogSource src(rawlog, {});
-        while (src.read())
-        {
-        }
-        outcome = src.endedEarly();
-    }
-    catch (const core::InputError& e)
-    {
-        outcome = e.what();
-    }
+    const std::string outcome = outcomeOfFuzzSeed("regression-range-image-size", "found");
     EXPECT_NE(outcome.find("found.rawlog"), std::string::npos) << outcome;
 }
 
@@ -386,25 +395,7 @@ TEST(RawlogSource, ADamagedJpegImageIsDamageNotTheEndOfTheProcess)
     // MRPT decodes it with libjpeg's default error handler, which called exit(); now the
     // rawlog ends there as damaged (JpegErrorGuard.cpp). Were exit() still called, this test
     // program would end here and the test fail.
-    test::TempDir dir;
-    const std::string rawlog = dir / "jpeg.rawlog";
-    fs::copy_file(test::sourceDir() + "/tests/fuzz/seeds/fuzz_rawlog/regression-damaged-jpeg",
-                  rawlog);
-    fs::create_directory_symlink(test::sourceDir() + "/rawlogs/sample_walking_xyz_Images",
-                                 dir / "jpeg_Images");
-    std::string outcome = "no error";
-    try
-    {
-        io::RawlogSource src(rawlog, {});
-        while (src.read())
-        {
-        }
-        outcome = src.endedEarly();
-    }
-    catch (const core::InputError& e)
-    {
-        outcome = e.what();
-    }
+    const std::string outcome = outcomeOfFuzzSeed("regression-damaged-jpeg", "jpeg");
     EXPECT_NE(outcome.find("jpeg.rawlog"), std::string::npos) << outcome;
     EXPECT_NE(outcome.find("CImage"), std::string::npos) << outcome;  // the damaged image
 }

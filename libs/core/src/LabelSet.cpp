@@ -2,7 +2,9 @@
 
 #include <mrpt/core/format.h>
 
+#include <algorithm>
 #include <fstream>
+#include <opencv2/core.hpp>
 #include <sstream>
 
 #include "smap/core/InputError.h"
@@ -224,5 +226,15 @@ std::vector<bool> LabelSet::movable(double minPrior) const
     for (const auto& l : labels_)
         out[static_cast<size_t>(l.id)] = l.dynamicPrior >= minPrior;
     return out;
+}
+
+cv::Mat classMask(const cv::Mat& labels, const std::vector<bool>& classes)
+{
+    cv::Mat table(1, 256, CV_8UC1, cv::Scalar(0));
+    for (size_t id = 0; id < std::min<size_t>(classes.size(), 256); ++id)
+        table.at<uint8_t>(0, static_cast<int>(id)) = classes[id] ? 255 : 0;
+    cv::Mat mask;
+    cv::LUT(labels, table, mask);
+    return mask;
 }
 }  // namespace smap::core

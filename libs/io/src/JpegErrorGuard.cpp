@@ -1,6 +1,6 @@
 // A damaged JPEG inside a rawlog must not end the process. MRPT 2.5 decodes a CImage's JPEG
-// bytes (CImage::loadFromStreamAsJPEG) with libjpeg's default error handler, whose error_exit
-// calls exit(): one corrupt frame in a recording ended the whole run (found by fuzz_rawlog).
+// bytes (CImage::loadFromStreamAsJPEG) with libjpeg's default error handler, which ends the
+// process: one corrupt frame in a recording ended the whole run (found by fuzz_rawlog).
 // This file defines jpeg_std_error, the call every libjpeg user makes to get the default
 // handler. smap_io is loaded before libjpeg, so the dynamic linker binds MRPT's calls (and
 // OpenCV's) to this one. It fills the handler as libjpeg does, then makes error_exit throw

@@ -5,6 +5,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "KeyFrameVoxels.h"
+#include "smap/core/LabelSet.h"
 
 namespace smap::mapping
 {
@@ -16,11 +17,7 @@ constexpr int kStep = 4;  ///< px between body samples
 /// counts as body: a person cut by it keeps that edge).
 cv::Mat movableInside(const cv::Mat& labels, const std::vector<bool>& movable, int erosion)
 {
-    cv::Mat table(1, 256, CV_8UC1, cv::Scalar(0));
-    for (size_t id = 0; id < std::min<size_t>(movable.size(), 256); ++id)
-        table.at<uint8_t>(0, static_cast<int>(id)) = movable[id] ? 255 : 0;
-    cv::Mat body;
-    cv::LUT(labels, table, body);
+    cv::Mat body = core::classMask(labels, movable);
     if (erosion > 0 && cv::countNonZero(body) > 0)
         cv::erode(body, body,
                   cv::getStructuringElement(cv::MORPH_RECT, {2 * erosion + 1, 2 * erosion + 1}),

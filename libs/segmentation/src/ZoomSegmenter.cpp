@@ -3,7 +3,6 @@
 #include <mrpt/core/format.h>
 
 #include <algorithm>
-#include <numeric>
 #include <opencv2/imgproc.hpp>
 
 #include "smap/core/LabelSet.h"
@@ -12,20 +11,6 @@ namespace smap::segmentation
 {
 namespace
 {
-/// The first pass's pixels of a movable class.
-cv::Mat movableMask(const cv::Mat& labels, const std::vector<bool>& movable)
-{
-    cv::Mat mask(labels.size(), CV_8UC1, cv::Scalar(0));
-    for (int v = 0; v < labels.rows; ++v)
-    {
-        const auto* l = labels.ptr<uint8_t>(v);
-        auto* m = mask.ptr<uint8_t>(v);
-        for (int u = 0; u < labels.cols; ++u)
-            m[u] = l[u] < movable.size() && movable[l[u]] ? 1 : 0;
-    }
-    return mask;
-}
-
 /// A window of `size` with `centre` across its middle and a third of the way down, inside
 /// the frame.
 cv::Rect windowAround(const cv::Point2d& centre, cv::Size size, cv::Size frame)
@@ -72,8 +57,8 @@ std::vector<cv::Rect> zoomWindows(const cv::Mat& labels, const std::vector<bool>
     if (maxCrops <= 0 || labels.empty())
         return windows;
     cv::Mat components, stats, centroids;
-    const int n = cv::connectedComponentsWithStats(movableMask(labels, movable), components, stats,
-                                                   centroids, 8, CV_32S);
+    const int n = cv::connectedComponentsWithStats(core::classMask(labels, movable), components,
+                                                   stats, centroids, 8, CV_32S);
     const double minArea = ZoomSegmenter::kMinRegionFraction * labels.total();
     std::vector<int> regions;
     for (int k = 1; k < n; ++k)

@@ -55,4 +55,8 @@ public:
 private:
     std::vector<Label> labels_;
 };
+
+/// CV_8UC1: 255 where the label image `labels` (CV_8UC1 class ids) holds a class marked in
+/// `classes` (e.g. LabelSet::movable), 0 elsewhere (void and ids beyond `classes` included).
+cv::Mat classMask(const cv::Mat& labels, const std::vector<bool>& classes);
 }  // namespace smap::core
