@@ -378,6 +378,62 @@ TEST(SemanticMapBuilder, WhatAPersonLeftGoesOnceTheNewestViewOfItsPlaceSeesThrou
     }
 }
 
+TEST(SemanticMapBuilder, APersonBackInFrontOfAPlaceSeenThroughDoesNotBringBackWhatWasLeft)
+{
+    // Keyframe 0 (frame 0) sees patch A 1 m in front of the wall, beside pixels the dynamic mask
+    // caught: A is a part of a walking person that segmentation missed. Keyframe 1 (frame 20)
+    // sees the bare wall through A's place. Keyframe 2 (frame 40) sees a surface 4 cm in front
+    // of A's place, within see_through_margin (a person back there whom its segmentation
+    // missed too), and optionally keyframe 3 (frame 60) sees it again. The newest view alone
+    // sees a surface at A and keeps A; with see_through_majority, keyframe 0's A goes when the
+    // views after it saw through its place at least as often as they saw a surface there (one
+    // each), and stays when more of them saw the surface (one through, two at it). What
+    // keyframes 2 and 3 put there themselves, and the wall, stay either way.
+    const maps::BackProjector::Images withPerson = patchesBesideAMover();
+    maps::BackProjector::Images bare = wall();
+    bare.dynamicMask.setTo(0);
+    maps::BackProjector::Images back = bare;
+    back.depth = bare.depth.clone();
+    back.depth(cv::Rect(32, 15, 8, 20)).setTo(0.96f);
+    const auto count = [](const maps::CSemanticPointsMap& m, float zMin, float zMax)
+    {
+        size_t n = 0;  // at A's place (x -0.1 .. 0 m), B (x -0.5 .. -0.39 m) left out
+        for (const auto& q : m.points())
+            n += q.position.z() >= zMin && q.position.z() < zMax && q.position.x() > -0.2f ? 1 : 0;
+        return n;
+    };
+    ASSERT_TRUE(mapping::MapBuilderParameters().see_through_majority) << "on by default";
+    for (const bool majority : {true, false})
+    {
+        for (const int backViews : {1, 2})
+        {
+            mapping::MapBuilderParameters p;
+            p.prune_near_movers = 0.1;
+            p.confirm_clear_distance = 0.0;
+            p.see_through_majority = majority;
+            mapping::SemanticMapBuilder b(p, core::LabelSet::pascalVoc());
+            b.add(0, 0, 0.0, withPerson, camera(), mrpt::poses::CPose3D());
+            b.add(1, 20, 20 / 30.0, bare, camera(), mrpt::poses::CPose3D());
+            for (int k = 2; k < 2 + backViews; ++k)
+                b.add(static_cast<uint64_t>(k), static_cast<uint64_t>(20 * k), 20 * k / 30.0, back,
+                      camera(), mrpt::poses::CPose3D());
+            const size_t a = count(b.pointsMap(), 0.99f, 1.01f);
+            const size_t front = count(b.pointsMap(), 0.95f, 0.97f);
+            const size_t wall = count(b.pointsMap(), 1.5f, 2.5f);
+            ASSERT_GT(a, 20U);
+            ASSERT_GT(front, 20U);
+            const auto r = b.reanchor([](const mapping::KeyFrameContribution&)
+                                      { return std::optional<mrpt::poses::CPose3D>(); });
+            const bool gone = majority && backViews == 1;
+            EXPECT_EQ(count(b.pointsMap(), 0.99f, 1.01f), gone ? 0U : a)
+                << "majority " << majority << ", " << backViews << " views back";
+            EXPECT_EQ(r.seenThrough > 0U, gone) << r.seenThrough;
+            EXPECT_EQ(count(b.pointsMap(), 0.95f, 0.97f), front);
+            EXPECT_EQ(count(b.pointsMap(), 1.5f, 2.5f), wall);
+        }
+    }
+}
+
 TEST(SemanticMapBuilder, APersonWhoStaysWhereKeyframesSawThemLeavesTheMaps)
 {
     // A person stands 0.2 m in front of the wall (30 x 40 px at 1.8 m: 17 x 23 cm, a narrow

@@ -41,17 +41,19 @@ cv::Mat LatestView::staticDepthCells(const maps::BackProjector::Images& images, 
     return nearest;
 }
 
-LatestView::LatestView(const std::vector<KeyFrameContribution>& contributions, double margin)
-    : margin_(static_cast<float>(margin))
+LatestView::LatestView(const std::vector<KeyFrameContribution>& contributions, double margin,
+                       bool majority)
+    : margin_(static_cast<float>(margin)), majority_(majority)
 {
     views_.reserve(contributions.size());
-    for (const auto& c : contributions)
+    for (size_t k = 0; k < contributions.size(); ++k)
     {
+        const KeyFrameContribution& c = contributions[k];
         if (c.static_depth_cells.empty() || !c.camera.isValid())
             continue;
         const Eigen::Matrix4d T_world_cam =
             c.T_world_cam.getHomogeneousMatrixVal<mrpt::math::CMatrixDouble44>().asEigen();
-        views_.push_back({Eigen::Isometry3f(T_world_cam.inverse().cast<float>()), c.camera,
+        views_.push_back({k, Eigen::Isometry3f(T_world_cam.inverse().cast<float>()), c.camera,
                           c.static_depth_cells});
     }
 }
@@ -77,16 +79,24 @@ LatestView::Verdict LatestView::look(const View& view, const Eigen::Vector3f& p_
     return z > q.z() + margin_ ? Verdict::Through : Verdict::Seen;
 }
 
-bool LatestView::seenThrough(const Eigen::Vector3f& p_world) const
+bool LatestView::seenThrough(const Eigen::Vector3f& p_world, size_t own) const
 {
+    Verdict newest = Verdict::NoView;
+    int throughAfter = 0, seenAfter = 0;  // votes of the keyframes after p's own
     for (auto it = views_.rbegin(); it != views_.rend(); ++it)
     {
+        const bool after = it->contribution > own;
+        if (newest != Verdict::NoView && !(majority_ && after))
+            break;  // the newest verdict found, and no more votes to count
         const Verdict v = look(*it, p_world);
-        if (v == Verdict::Seen)
-            return false;
-        if (v == Verdict::Through)
-            return true;
+        if (v != Verdict::Seen && v != Verdict::Through)
+            continue;
+        if (newest == Verdict::NoView)
+            newest = v;
+        if (after)
+            (v == Verdict::Through ? throughAfter : seenAfter)++;
     }
-    return false;
+    return newest == Verdict::Through ||
+           (majority_ && throughAfter > 0 && throughAfter >= seenAfter);
 }
 }  // namespace smap::mapping

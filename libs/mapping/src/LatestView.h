@@ -27,14 +27,19 @@ public:
 
     /// The contributions' static depth cells (KeyFrameContribution::static_depth_cells, in
     /// keyframe order) at their current poses. `margin` (m): how far behind a point the
-    /// surface a keyframe saw must lie for the point to count as seen through.
-    LatestView(const std::vector<KeyFrameContribution>& contributions, double margin);
+    /// surface a keyframe saw must lie for the point to count as seen through. `majority`:
+    /// seenThrough also counts the views after the point's own keyframe.
+    LatestView(const std::vector<KeyFrameContribution>& contributions, double margin,
+               bool majority);
 
-    /// The newest keyframe that observed the cell where the world point p projects, and saw
-    /// no static surface more than `margin` in front of p there (that one hides p: the
-    /// keyframe before is asked), saw the surface more than `margin` behind p: the place is
-    /// empty now.
-    bool seenThrough(const Eigen::Vector3f& p_world) const;
+    /// Whether the place of the world point p, put there by contribution `own` (an index into
+    /// the contributions), is empty now: the newest keyframe that observed the cell where p
+    /// projects, and saw no static surface more than `margin` in front of p there (that one
+    /// hides p: the keyframe before is asked), saw the surface more than `margin` behind p.
+    /// With `majority`, also when more of the keyframes after `own` saw the surface behind p
+    /// than at p (a person who came back in front of the place, missed by the newest
+    /// keyframe's segmentation, does not bring back what was seen through before).
+    bool seenThrough(const Eigen::Vector3f& p_world, size_t own) const;
 
 private:
     enum class Verdict
@@ -46,6 +51,7 @@ private:
     };
     struct View
     {
+        size_t contribution;  ///< index into the contributions
         Eigen::Isometry3f T_cam_world;
         core::PinholeCamera camera;
         cv::Mat cells;
@@ -55,5 +61,6 @@ private:
 
     std::vector<View> views_;
     float margin_;
+    bool majority_;
 };
 }  // namespace smap::mapping

@@ -33,6 +33,7 @@ void MapBuilderParameters::loadFromConfigFile(const mrpt::config::CConfigFileBas
     if (!(see_through_margin >= 0.0 && see_through_margin <= 2.0))
         throw core::InputError(mrpt::format(
             "[map] see_through_margin = %g must be in [0, 2] m (0: off)", see_through_margin));
+    see_through_majority = cfg.read_bool(s, "see_through_majority", see_through_majority);
     loadMovableBody(cfg);
     if (confirm_span < 0)
         throw core::InputError(
@@ -89,6 +90,7 @@ void MapBuilderParameters::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
     cfg.write(s, "confirm_span", confirm_span);
     cfg.write(s, "confirm_clear_distance", confirm_clear_distance);
     cfg.write(s, "see_through_margin", see_through_margin);
+    cfg.write(s, "see_through_majority", see_through_majority);
     cfg.write(s, "movable_body_radius", movable_body_radius);
     cfg.write(s, "movable_body_erosion", movable_body_erosion);
     cfg.write(s, "movable_body_prior", movable_body_prior);

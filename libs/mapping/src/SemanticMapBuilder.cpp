@@ -240,14 +240,14 @@ std::optional<SemanticMapBuilder::KeepMasks> SemanticMapBuilder::nearMoverFilter
     {
         keep[k].assign(world[k].size(), true);
         for (size_t i = 0; i < world[k].size(); ++i)
-            keep[k][i] = !drop(world[k][i].position, dropped);
+            keep[k][i] = !drop(world[k][i].position, k, dropped);
     }
     if (dropped.unconfirmed + dropped.seenThrough + dropped.onBody == 0)
         return std::nullopt;
     return keep;
 }
 
-std::function<bool(const Eigen::Vector3f&, SemanticMapBuilder::NearMoverDrops&)>
+std::function<bool(const Eigen::Vector3f&, size_t, SemanticMapBuilder::NearMoverDrops&)>
 SemanticMapBuilder::dropTest(const std::vector<std::vector<maps::SemanticPoint>>& world,
                              bool confirm, bool seeThrough, bool bodyTest) const
 {
@@ -259,7 +259,8 @@ SemanticMapBuilder::dropTest(const std::vector<std::vector<maps::SemanticPoint>>
         voxels = confirmationVoxels(world, near);
     std::shared_ptr<const LatestView> latest;
     if (seeThrough)
-        latest = std::make_shared<LatestView>(contributions_, params_.see_through_margin);
+        latest = std::make_shared<LatestView>(contributions_, params_.see_through_margin,
+                                              params_.see_through_majority);
     std::shared_ptr<BodyVoxels> bodies;
     if (bodyTest)
     {
@@ -270,7 +271,8 @@ SemanticMapBuilder::dropTest(const std::vector<std::vector<maps::SemanticPoint>>
         if (bodies->empty())  // no keyframe saw a movable object
             bodies.reset();
     }
-    return [near, voxels, latest, bodies](const Eigen::Vector3f& p, NearMoverDrops& dropped)
+    return [near, voxels, latest, bodies](const Eigen::Vector3f& p, size_t keyframe,
+                                          NearMoverDrops& dropped)
     {
         if (bodies && bodies->near(p))
         {
@@ -280,7 +282,7 @@ SemanticMapBuilder::dropTest(const std::vector<std::vector<maps::SemanticPoint>>
         const bool nearMover = near && near(p);
         if (nearMover && voxels && !voxels->confirmed(p))
             dropped.unconfirmed++;
-        else if (nearMover && latest && latest->seenThrough(p))
+        else if (nearMover && latest && latest->seenThrough(p, keyframe))
             dropped.seenThrough++;
         else
             return false;
