@@ -37,6 +37,24 @@ maps::BackProjector::Images wall()
     return im;
 }
 
+/// The wall with no dynamic pixels (a keyframe that sees no mover).
+maps::BackProjector::Images bareWall()
+{
+    maps::BackProjector::Images im = wall();
+    im.dynamicMask.setTo(0);
+    return im;
+}
+
+/// A copy of im whose depth is z on r (its own depth image: cv::Mat copies share pixels).
+maps::BackProjector::Images withDepth(const maps::BackProjector::Images& im, const cv::Rect& r,
+                                      float z)
+{
+    maps::BackProjector::Images out = im;
+    out.depth = im.depth.clone();
+    out.depth(r).setTo(z);
+    return out;
+}
+
 double meanZ(const maps::CSemanticPointsMap& m)
 {
     double z = 0.0;
@@ -56,6 +74,16 @@ maps::BackProjector::Images patchesBesideAMover()
     im.depth(cv::Rect(40, 15, 6, 20)).setTo(1.0f);  // the mover beside it
     im.dynamicMask(cv::Rect(40, 15, 6, 20)).setTo(255);
     im.depth(cv::Rect(0, 45, 10, 10)).setTo(1.0f);  // B
+    return im;
+}
+
+/// patchesBesideAMover seen again with the mover gone: no depth and no dynamic pixels where it
+/// was, A where it was.
+maps::BackProjector::Images patchesWithoutTheMover()
+{
+    maps::BackProjector::Images im =
+        withDepth(patchesBesideAMover(), cv::Rect(40, 15, 6, 20), 0.0f);
+    im.dynamicMask.setTo(0);
     return im;
 }
 
@@ -164,8 +192,7 @@ TEST(SemanticMapBuilder, PruningDropsPointsWhereLaterKeyframesSawThrough)
     maps::BackProjector::Images withBox = wall();
     withBox.dynamicMask.setTo(0);
     withBox.depth(cv::Rect(20, 15, 20, 20)).setTo(1.0f);
-    maps::BackProjector::Images bare = wall();
-    bare.dynamicMask.setTo(0);
+    const maps::BackProjector::Images bare = bareWall();
     const auto nearPoints = [](const maps::CSemanticPointsMap& m)
     {
         size_t n = 0;
@@ -197,8 +224,7 @@ TEST(SemanticMapBuilder, PruningNearMoversDropsOnlyWhatStoodBesideAMover)
     // and box B 1 m in front, 0.4 m away from them; keyframes 1-3 see the bare wall through
     // both. Only A is beside a mover: only A goes; B and the wall stay.
     const maps::BackProjector::Images first = patchesBesideAMover();
-    maps::BackProjector::Images bare = wall();
-    bare.dynamicMask.setTo(0);
+    const maps::BackProjector::Images bare = bareWall();
     const auto count = pointsInFront;
     mapping::MapBuilderParameters p;
     p.prune_near_movers = 0.1;
@@ -231,13 +257,10 @@ TEST(SemanticMapBuilder, NearAMoverOnlyWhatTwoKeyframesSawEntersTheMaps)
     // person is), or sees A again where it was: 20 frames later (a static surface beside the
     // person), or 5 frames later (less than confirm_span: a person there would not have moved).
     const maps::BackProjector::Images first = patchesBesideAMover();
-    maps::BackProjector::Images elsewhere = wall();
-    elsewhere.dynamicMask.setTo(0);
-    elsewhere.depth(cv::Rect(28, 10, 22, 30)).setTo(0.0f);  // A and the mover not seen
-    maps::BackProjector::Images again = first;  // its own pixels (cv::Mat copies share them)
-    again.depth = first.depth.clone();
-    again.dynamicMask = cv::Mat(first.dynamicMask.size(), CV_8UC1, cv::Scalar(0));
-    again.depth(cv::Rect(40, 15, 6, 20)).setTo(0.0f);  // A seen again, the mover gone
+    // A and the mover not seen.
+    const maps::BackProjector::Images elsewhere =
+        withDepth(bareWall(), cv::Rect(28, 10, 22, 30), 0.0f);
+    const maps::BackProjector::Images again = patchesWithoutTheMover();
     const auto count = [](const std::vector<Eigen::Vector3f>& pts, float xMin, float xMax)
     {
         size_t n = 0;
@@ -331,15 +354,10 @@ TEST(SemanticMapBuilder, WhatAPersonLeftGoesOnceTheNewestViewOfItsPlaceSeesThrou
     // which no mover was near, is seen through in the first case too, and stays: the test is
     // near movers only.
     const maps::BackProjector::Images withPerson = patchesBesideAMover();
-    maps::BackProjector::Images bare = wall();
-    bare.dynamicMask.setTo(0);
-    maps::BackProjector::Images again = withPerson;
-    again.depth = withPerson.depth.clone();
-    again.dynamicMask = cv::Mat(withPerson.dynamicMask.size(), CV_8UC1, cv::Scalar(0));
-    again.depth(cv::Rect(40, 15, 6, 20)).setTo(0.0f);  // A seen again, the mover gone
-    maps::BackProjector::Images unseen = bare;
-    unseen.depth = bare.depth.clone();
-    unseen.depth(cv::Rect(28, 10, 22, 30)).setTo(0.0f);  // no depth where A and the mover were
+    const maps::BackProjector::Images bare = bareWall();
+    const maps::BackProjector::Images again = patchesWithoutTheMover();
+    // No depth where A and the mover were.
+    const maps::BackProjector::Images unseen = withDepth(bare, cv::Rect(28, 10, 22, 30), 0.0f);
     enum class Newest
     {
         Bare,
@@ -390,11 +408,8 @@ TEST(SemanticMapBuilder, APersonBackInFrontOfAPlaceSeenThroughDoesNotBringBackWh
     // each), and stays when more of them saw the surface (one through, two at it). What
     // keyframes 2 and 3 put there themselves, and the wall, stay either way.
     const maps::BackProjector::Images withPerson = patchesBesideAMover();
-    maps::BackProjector::Images bare = wall();
-    bare.dynamicMask.setTo(0);
-    maps::BackProjector::Images back = bare;
-    back.depth = bare.depth.clone();
-    back.depth(cv::Rect(32, 15, 8, 20)).setTo(0.96f);
+    const maps::BackProjector::Images bare = bareWall();
+    const maps::BackProjector::Images back = withDepth(bare, cv::Rect(32, 15, 8, 20), 0.96f);
     const auto count = [](const maps::CSemanticPointsMap& m, float zMin, float zMax)
     {
         size_t n = 0;  // at A's place (x -0.1 .. 0 m), B (x -0.5 .. -0.39 m) left out
