@@ -87,6 +87,16 @@ maps::BackProjector::Images patchesWithoutTheMover()
     return im;
 }
 
+/// The near-mover tests within 0.1 m of a keyframe's dynamic pixels, the clear test off: two
+/// keyframes confirm what they both saw beside a mover.
+mapping::MapBuilderParameters nearMoversWithoutClearTest()
+{
+    mapping::MapBuilderParameters p;
+    p.prune_near_movers = 0.1;
+    p.confirm_clear_distance = 0.0;
+    return p;
+}
+
 /// Points of m in front of the wall with x in [xMin, xMax).
 size_t pointsInFront(const maps::CSemanticPointsMap& m, float xMin, float xMax)
 {
@@ -369,9 +379,7 @@ TEST(SemanticMapBuilder, WhatAPersonLeftGoesOnceTheNewestViewOfItsPlaceSeesThrou
     {
         for (const Newest newest : {Newest::Bare, Newest::Again, Newest::Unseen})
         {
-            mapping::MapBuilderParameters p;
-            p.prune_near_movers = 0.1;
-            p.confirm_clear_distance = 0.0;
+            mapping::MapBuilderParameters p = nearMoversWithoutClearTest();
             p.see_through_margin = margin;
             mapping::SemanticMapBuilder b(p, core::LabelSet::pascalVoc());
             b.add(0, 0, 0.0, withPerson, camera(), mrpt::poses::CPose3D());
@@ -422,9 +430,7 @@ TEST(SemanticMapBuilder, APersonBackInFrontOfAPlaceSeenThroughDoesNotBringBackWh
     {
         for (const int backViews : {1, 2})
         {
-            mapping::MapBuilderParameters p;
-            p.prune_near_movers = 0.1;
-            p.confirm_clear_distance = 0.0;
+            mapping::MapBuilderParameters p = nearMoversWithoutClearTest();
             p.see_through_majority = majority;
             mapping::SemanticMapBuilder b(p, core::LabelSet::pascalVoc());
             b.add(0, 0, 0.0, withPerson, camera(), mrpt::poses::CPose3D());
