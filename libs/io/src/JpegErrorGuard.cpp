@@ -6,8 +6,8 @@
 // OpenCV's) to this one. It fills the handler as libjpeg does, then makes error_exit throw
 // instead, after freeing the decompressor's memory: the exception unwinds through libjpeg and
 // MRPT (built with unwind tables, as Debian's amd64 C code is) to RawlogSource, which reports
-// the entry as damaged. Callers that
-// install their own error_exit after this call (OpenCV's imgcodecs) keep theirs.
+// the entry as damaged. Callers that install their own error_exit after this call (OpenCV's
+// imgcodecs) keep theirs.
 #include <dlfcn.h>
 
 #include <cstdio>  // before jpeglib.h, which uses FILE

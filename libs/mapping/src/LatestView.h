@@ -36,9 +36,10 @@ public:
     /// the contributions), is empty now: the newest keyframe that observed the cell where p
     /// projects, and saw no static surface more than `margin` in front of p there (that one
     /// hides p: the keyframe before is asked), saw the surface more than `margin` behind p.
-    /// With `majority`, also when more of the keyframes after `own` saw the surface behind p
-    /// than at p (a person who came back in front of the place, missed by the newest
-    /// keyframe's segmentation, does not bring back what was seen through before).
+    /// With `majority`, also when at least one of the keyframes after `own` saw the surface
+    /// behind p and at least as many saw it behind p as at p (a person who came back in front
+    /// of the place, missed by the newest keyframe's segmentation, does not bring back what
+    /// was seen through before).
     bool seenThrough(const Eigen::Vector3f& p_world, size_t own) const;
 
 private:

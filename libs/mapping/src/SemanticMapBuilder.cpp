@@ -271,7 +271,7 @@ SemanticMapBuilder::dropTest(const std::vector<std::vector<maps::SemanticPoint>>
         if (bodies->empty())  // no keyframe saw a movable object
             bodies.reset();
     }
-    return [near, voxels, latest, bodies](const Eigen::Vector3f& p, size_t keyframe,
+    return [near, voxels, latest, bodies](const Eigen::Vector3f& p, size_t own,
                                           NearMoverDrops& dropped)
     {
         if (bodies && bodies->near(p))
@@ -282,7 +282,7 @@ SemanticMapBuilder::dropTest(const std::vector<std::vector<maps::SemanticPoint>>
         const bool nearMover = near && near(p);
         if (nearMover && voxels && !voxels->confirmed(p))
             dropped.unconfirmed++;
-        else if (nearMover && latest && latest->seenThrough(p, keyframe))
+        else if (nearMover && latest && latest->seenThrough(p, own))
             dropped.seenThrough++;
         else
             return false;

@@ -56,9 +56,10 @@ struct MapBuilderParameters : public mrpt::config::CLoadableOptions
     /// came back, has left, whatever earlier keyframes confirmed. 0 = off.
     double see_through_margin = 0.05;
     /// The see-through test also drops a point when, of the keyframes after the point's own
-    /// that observed its place, more saw the static surface behind it than at it: a person who
-    /// came back and stood in front of the place, missed by that keyframe's segmentation, does
-    /// not bring back what an earlier walker left there. Off: the newest view alone decides.
+    /// that observed its place, at least one saw the static surface behind it and at least as
+    /// many saw it behind as at it: a person who came back and stood in front of the place,
+    /// missed by that keyframe's segmentation, does not bring back what an earlier walker left
+    /// there. Off: the newest view alone decides.
     bool see_through_majority = true;
     /// A person who stands still is still a person: at the end of the run, a keyframe's point
     /// within this distance (m) of where keyframes made confirm_span frames or more apart saw

@@ -98,10 +98,10 @@ private:
     /// point: nullopt when off or when it would drop nothing; `dropped` says how many
     /// contribution points it drops.
     std::optional<KeepMasks> nearMoverFilter(NearMoverDrops& dropped) const;
-    /// Per world point of the contribution with the given index: whether the end-of-run tests
-    /// drop it (counted in `dropped`): on a movable-class body seen by a keyframe (`bodyTest`),
-    /// else near movers and unconfirmed (`confirm`) or seen through (`seeThrough`). `world`:
-    /// each contribution at its pose.
+    /// Per world point and the index of the contribution that put it: whether the end-of-run
+    /// tests drop it (counted in `dropped`): on a movable-class body seen by a keyframe
+    /// (`bodyTest`), else near movers and unconfirmed (`confirm`) or seen through
+    /// (`seeThrough`). `world`: each contribution at its pose.
     std::function<bool(const Eigen::Vector3f&, size_t, NearMoverDrops&)> dropTest(
         const std::vector<std::vector<maps::SemanticPoint>>& world, bool confirm, bool seeThrough,
         bool bodyTest) const;
