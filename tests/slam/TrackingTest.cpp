@@ -408,6 +408,53 @@ TEST(RgbdSlam, FrameCoveredByAMovableMaskIsTrackedOnItsStillKeypoints)
     EXPECT_EQ(slam::toString(slam::TrackingFallback::None), "");
 }
 
+// A fallback stage that finds a pose far from the constant-velocity prediction is not kept: the
+// frame with 2 % of its keypoints weighted is the image of three frames later, stamped as the
+// next frame, so the raised-weights fallback finds a pose one jump away from the prediction.
+// With fallback_max_jump above the jump the frame is tracked there, below it the frame is lost;
+// stamped at its own time (three frame intervals) the allowance triples and it is kept again.
+TEST(RgbdSlam, FallbackPoseFarFromThePredictionIsNotKept)
+{
+    const auto& seq = staticXyz();
+    constexpr size_t kBad = 30, kAhead = 3;
+    const double jump =
+        (seq.groundTruth[kBad + kAhead].T_world_cam - seq.groundTruth[kBad].T_world_cam).norm();
+    ASSERT_GT(jump, 0.005) << "the camera must move for the check to bite";
+    auto run = [&seq](double maxJump, bool ownTime)
+    {
+        slam::TrackerParameters tp;
+        tp.fallback_max_jump = maxJump;
+        tp.fallback_max_jump_deg = 0.0;
+        tp.carried_search_frames = 0;
+        slam::RgbdSlam slam(features::OrbParameters{}, tp, deterministic());
+        slam::TrackingResult bad;
+        for (size_t i = 0; i <= kBad; ++i)
+        {
+            auto f = slam.prepare(seq.frames[i == kBad ? kBad + kAhead : i]);
+            if (i == kBad)
+            {
+                if (!ownTime)
+                    f.timestamp = seq.frames[kBad].timestamp;
+                std::vector<float> w(f.size(), 0.0F);
+                for (size_t k = 0; k < w.size(); k += 50)
+                    w[k] = 1.0F;
+                f.setWeights(w);
+            }
+            bad = slam.track(std::move(f));
+        }
+        return bad;
+    };
+    const auto kept = run(2.0 * jump, false);
+    ASSERT_EQ(kept.status, slam::TrackingStatus::Ok);
+    EXPECT_EQ(kept.fallback, slam::TrackingFallback::RaisedWeights);
+    const mrpt::poses::CPose3D T_first_cam =
+        seq.groundTruth[kBad + kAhead].T_world_cam - seq.groundTruth[0].T_world_cam;
+    EXPECT_LT((slam::toCPose3D(kept.T_world_cam) - T_first_cam).norm(), 0.01)
+        << "translation error (m)";
+    EXPECT_EQ(run(0.5 * jump, false).status, slam::TrackingStatus::Lost) << "jumped too far";
+    EXPECT_EQ(run(0.5 * jump, true).status, slam::TrackingStatus::Ok) << "three intervals passed";
+}
+
 // A first frame the outside could not vet (all weights 0) starts no map; the next one does, and
 // the outside odometry linking the two then gives the first frame its pose, refined against the
 // new map (or the odometry's own when the refinement finds too few inliers).
@@ -481,7 +528,8 @@ TEST(RgbdSlam, FrameBeforeTheMapIsPosedFromTheOdometryThatLinksIt)
 // more inliers than there are keypoints). The outside odometry, 2 mm off per frame, carries
 // the pose across the gap: the first frame after it is found in the local map from the carried
 // pose (fallback "carried_pose") and placed at the true pose. Without the odometry, or when
-// the gap is longer than carried_search_frames, it stays lost.
+// the gap is longer than carried_search_frames, or when the frame finds fewer than
+// carried_min_inliers there, it stays lost.
 TEST(RgbdSlam, LostFramesArePlacedFromThePoseTheOdometryCarried)
 {
     const auto& seq = staticXyz();
@@ -494,11 +542,13 @@ TEST(RgbdSlam, LostFramesArePlacedFromThePoseTheOdometryCarried)
     };
     // The last tracked frame's pose and the first one's after the gap.
     using Ends = std::pair<slam::TrackingResult, slam::TrackingResult>;
-    auto run = [&](bool withOdometry, int searchFrames, bool blank = true)
+    auto run = [&](bool withOdometry, int searchFrames, bool blank = true,
+                   int carriedMinInliers = slam::TrackerParameters{}.carried_min_inliers)
     {
         slam::TrackerParameters tp;
         tp.min_inliers_after_relocalisation = 100000;
         tp.carried_search_frames = searchFrames;
+        tp.carried_min_inliers = carriedMinInliers;
         slam::RgbdSlam slam(features::OrbParameters{}, tp, deterministic());
         Ends ends;
         for (size_t i = 0; i <= kBack; ++i)
@@ -528,6 +578,8 @@ TEST(RgbdSlam, LostFramesArePlacedFromThePoseTheOdometryCarried)
     EXPECT_EQ(run(false, 30).second.status, slam::TrackingStatus::Lost) << "no odometry";
     EXPECT_EQ(run(true, 5).second.status, slam::TrackingStatus::Lost) << "lost for too long";
     EXPECT_EQ(run(true, 0).second.status, slam::TrackingStatus::Lost) << "stage switched off";
+    EXPECT_EQ(run(true, 6, true, 100000).second.status, slam::TrackingStatus::Lost)
+        << "a lost frame needs carried_min_inliers, not min_inliers";
     const auto [before, back] = run(true, 6);
     ASSERT_EQ(before.status, slam::TrackingStatus::Ok);
     ASSERT_EQ(back.status, slam::TrackingStatus::Ok);
@@ -584,6 +636,47 @@ TEST(Relocalisation, TriesTheKeyFrameTrackingWasLostAtWhenThumbnailsMislead)
     const mrpt::poses::CPose3D error =
         slam::toCPose3D(withHint.T_cam_world.inverse()) - T_first_lost;
     EXPECT_LT(error.norm(), 0.01) << "translation error (m)";
+}
+
+// The sweep: a lost frame whose keyframe ranks last by thumbnail (five decoys look like the
+// frame) is placed once the rounds reach it. One candidate and a sweep of two over the five
+// keyframes after it: rounds 0 and 1 try decoys, round 2 reaches the last of the ranking;
+// without the sweep no round does.
+TEST(Relocalisation, SweepReachesAKeyFrameWhoseThumbnailRanksLast)
+{
+    const auto& seq = staticXyz();
+    slam::RgbdSlam slam(features::OrbParameters{}, slam::TrackerParameters{}, deterministic());
+    slam::Map map;
+    slam::Frame first = slam.prepare(seq.frames[0]);
+    first.T_cam_world = Eigen::Isometry3d::Identity();
+    auto right = map.createKeyFrame(first);
+    ASSERT_GT(addDepthPoints(map, *right, first).size(), 200U);
+    constexpr size_t kLost = 8, kDecoys = 5;
+    std::vector<std::shared_ptr<slam::KeyFrame>> decoys;
+    for (size_t d = 0; d < kDecoys; ++d)
+        decoys.push_back(map.createKeyFrame(first));  // no map points
+    slam::TrackerParameters params;
+    params.relocalisation_candidates = 1;
+    params.relocalisation_sweep = 2;
+    auto attempt = [&](const slam::TrackerParameters& p, int round)
+    {
+        slam::Frame f = slam.prepare(seq.frames[kLost]);
+        for (auto& d : decoys)
+            d->thumbnail = f.thumbnail.clone();
+        right->thumbnail = -f.thumbnail;
+        return slam::relocaliseFrame(f, map, p, nullptr, round);
+    };
+    EXPECT_EQ(attempt(params, 0), 0);
+    EXPECT_EQ(attempt(params, 1), 0);
+    EXPECT_GE(attempt(params, 2), params.min_inliers_after_relocalisation);
+    // The slices wrap around the five keyframes after the first: {3, 4} in round 4, {0, 1} in 5.
+    EXPECT_GE(attempt(params, 4), params.min_inliers_after_relocalisation) << "wrapped";
+    EXPECT_EQ(attempt(params, 5), 0);
+    EXPECT_EQ(attempt(params, -1), 0) << "no sweep";
+    slam::TrackerParameters off = params;
+    off.relocalisation_sweep = 0;
+    for (int round = 0; round < 6; ++round)
+        EXPECT_EQ(attempt(off, round), 0) << round;
 }
 
 // A map point hidden behind a mover (most keypoints around its projection have weight 0) is
@@ -668,6 +761,18 @@ TEST(SlamParameters, InvalidValuesNameTheKey)
     EXPECT_NE(test::inputErrorOf([&] { c.loadFromConfigFile(carried, ""); })
                   .find("carried_search_frames = -2"),
               std::string::npos);
+    for (const auto& [key, value] : {std::pair<const char*, double>{"relocalisation_sweep", -1},
+                                     {"carried_min_inliers", 0},
+                                     {"fallback_max_jump", -0.01},
+                                     {"fallback_max_jump_deg", -1}})
+    {
+        mrpt::config::CConfigFileMemory bad;
+        bad.write("tracking", key, value);
+        slam::TrackerParameters b;
+        EXPECT_NE(test::inputErrorOf([&] { b.loadFromConfigFile(bad, ""); }).find(key),
+                  std::string::npos)
+            << key;
+    }
     mrpt::config::CConfigFileMemory cfg2;
     cfg2.write("local_mapping", "keyframe_redundancy", 1.5);
     slam::LocalMappingParameters m;

@@ -88,10 +88,11 @@ int tryKeyFrame(Frame& frame, const KeyFrame& kf, const TrackerParameters& param
     }
     return good;
 }
-}  // namespace
 
-int relocaliseFrame(Frame& frame, Map& map, const TrackerParameters& params,
-                    const KeyFrame* lastReference)
+/// The keyframes a lost frame tries, in order (see relocaliseFrame).
+std::vector<const KeyFrame*> chooseCandidates(const Frame& frame, const Map& map,
+                                              const TrackerParameters& params,
+                                              const KeyFrame* lastReference, int sweepRound)
 {
     std::vector<std::pair<double, const KeyFrame*>> ranked;
     for (const auto& [id, kf] : map.keyframes())
@@ -101,20 +102,37 @@ int relocaliseFrame(Frame& frame, Map& map, const TrackerParameters& params,
                      [](const auto& a, const auto& b) { return a.first < b.first; });
     const auto n = static_cast<size_t>(params.relocalisation_candidates);
     std::vector<const KeyFrame*> candidates;
+    const auto addNew = [&candidates](const KeyFrame* kf)
+    {
+        if (!kf->isBad() && std::find(candidates.begin(), candidates.end(), kf) == candidates.end())
+            candidates.push_back(kf);
+    };
     for (size_t c = 0; c < std::min(ranked.size(), n); ++c)
         candidates.push_back(ranked[c].second);
     if (lastReference && !lastReference->isBad())
     {
-        std::vector<const KeyFrame*> near = {lastReference};
+        addNew(lastReference);
         for (const KeyFrame* kf : lastReference->bestCovisibles(static_cast<int>(n) - 1))
-            near.push_back(kf);
-        for (const KeyFrame* kf : near)
-            if (!kf->isBad() &&
-                std::find(candidates.begin(), candidates.end(), kf) == candidates.end())
-                candidates.push_back(kf);
+            addNew(kf);
     }
+    // The sweep: the next slice of the rest of the ranking, round after round, wrapping.
+    if (ranked.size() > n && params.relocalisation_sweep > 0 && sweepRound >= 0)
+    {
+        const size_t rest = ranked.size() - n;
+        const auto sweep = static_cast<size_t>(params.relocalisation_sweep);
+        const size_t start = (static_cast<size_t>(sweepRound) * sweep) % rest;
+        for (size_t k = 0; k < std::min(sweep, rest); ++k)
+            addNew(ranked[n + (start + k) % rest].second);
+    }
+    return candidates;
+}
+}  // namespace
+
+int relocaliseFrame(Frame& frame, Map& map, const TrackerParameters& params,
+                    const KeyFrame* lastReference, int sweepRound)
+{
     int best = 0;
-    for (const KeyFrame* kf : candidates)
+    for (const KeyFrame* kf : chooseCandidates(frame, map, params, lastReference, sweepRound))
     {
         const int good = tryKeyFrame(frame, *kf, params);
         if (good >= params.min_inliers_after_relocalisation)

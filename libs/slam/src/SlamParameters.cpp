@@ -38,9 +38,13 @@ core::OptionFields TrackerParameters::fields(const std::string& section)
         .add("revisit_radius", revisit_radius)
         .add("revisit_max_frames", revisit_max_frames)
         .add("carried_search_frames", carried_search_frames)
+        .add("carried_min_inliers", carried_min_inliers)
         .add("relocalisation_candidates", relocalisation_candidates)
+        .add("relocalisation_sweep", relocalisation_sweep)
         .add("reanchor_after", reanchor_after)
         .add("fallback_weight", fallback_weight)
+        .add("fallback_max_jump", fallback_max_jump)
+        .add("fallback_max_jump_deg", fallback_max_jump_deg)
         .add("optimisation_rounds", optimisation_rounds)
         .add("optimisation_iterations", optimisation_iterations);
     return f;
@@ -80,6 +84,10 @@ void TrackerParameters::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
             "[tracking] revisit_max_frames = %d must be >= 0, or -1 (follow loop closing)",
             revisit_max_frames));
     requirePositive(relocalisation_candidates, s, "relocalisation_candidates");
+    requirePositive(carried_min_inliers, s, "carried_min_inliers");
+    if (relocalisation_sweep < 0)
+        throw core::InputError(mrpt::format("[tracking] relocalisation_sweep = %d must be >= 0",
+                                            relocalisation_sweep));
     if (carried_search_frames < 0)
         throw core::InputError(mrpt::format("[tracking] carried_search_frames = %d must be >= 0",
                                             carried_search_frames));
@@ -89,6 +97,10 @@ void TrackerParameters::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
     if (!(fallback_weight >= 0.0 && fallback_weight <= 1.0))
         throw core::InputError(
             mrpt::format("[tracking] fallback_weight = %g must be in [0, 1]", fallback_weight));
+    if (!(fallback_max_jump >= 0.0) || !(fallback_max_jump_deg >= 0.0))
+        throw core::InputError(mrpt::format(
+            "[tracking] fallback_max_jump = %g and fallback_max_jump_deg = %g must be >= 0",
+            fallback_max_jump, fallback_max_jump_deg));
     requirePositive(optimisation_rounds, s, "optimisation_rounds");
     requirePositive(optimisation_iterations, s, "optimisation_iterations");
 }

@@ -1,6 +1,7 @@
 #include "smap/slam/Tracker.h"
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <set>
 
@@ -181,7 +182,7 @@ Tracker::Attempt Tracker::trackWhileTracking(Frame& frame)
     if (ok)
         return {true, false, TrackingFallback::None};
     for (const auto stage : {TrackingFallback::RaisedWeights, TrackingFallback::StillMovable})
-        if (trackWithRaisedWeights(frame, stage))
+        if (trackWithRaisedWeights(frame, stage) && nearPrediction(frame, stage))
             return {true, false, stage};
     if (trackFromCarriedPose(frame))
         return {true, false, TrackingFallback::CarriedPose};
@@ -230,7 +231,10 @@ std::shared_ptr<KeyFrame> Tracker::acceptTracked(Frame& frame, bool relocalised,
 {
     result.status = relocalised ? TrackingStatus::Relocalised : TrackingStatus::Ok;
     if (last_ && state_ != TrackerState::Lost)
+    {
         velocity_ = frame.T_cam_world * last_->T_cam_world.inverse();
+        velocityInterval_ = frame.timestamp - last_->timestamp;
+    }
     else
         velocity_.reset();
     std::shared_ptr<KeyFrame> newKf;
@@ -441,6 +445,29 @@ bool Tracker::trackWithRaisedWeights(Frame& frame, TrackingFallback stage)
     return ok;
 }
 
+bool Tracker::nearPrediction(const Frame& frame, TrackingFallback stage) const
+{
+    if (!velocity_ || !last_ ||
+        (params_.fallback_max_jump <= 0.0 && params_.fallback_max_jump_deg <= 0.0))
+        return true;
+    const Eigen::Isometry3d T_predicted_cam =
+        (*velocity_ * last_->T_cam_world) * frame.T_cam_world.inverse();
+    // A longer gap since the last frame (a dropped frame) allows a proportionally larger jump.
+    const double elapsed = frame.timestamp - last_->timestamp;
+    const double scale = velocityInterval_ > 0.0 ? std::max(1.0, elapsed / velocityInterval_) : 1.0;
+    const double jump = T_predicted_cam.translation().norm();
+    const double jumpDeg = Eigen::AngleAxisd(T_predicted_cam.linear()).angle() * 180.0 / M_PI;
+    const bool near =
+        (params_.fallback_max_jump <= 0.0 || jump <= scale * params_.fallback_max_jump) &&
+        (params_.fallback_max_jump_deg <= 0.0 || jumpDeg <= scale * params_.fallback_max_jump_deg);
+    if (!near)
+        MRPT_LOG_INFO_FMT(
+            "frame %lu: the %s fallback's pose is %.3f m / %.2f deg from the "
+            "constant-velocity prediction; not kept",
+            static_cast<unsigned long>(frame.id), toString(stage).c_str(), jump, jumpDeg);
+    return near;
+}
+
 bool Tracker::trackReferenceKeyFrame(Frame& frame)
 {
     return last_ && poseFromReferenceKeyFrame(frame, last_->T_cam_world) >= 10;
@@ -482,7 +509,7 @@ int Tracker::poseFromReferenceKeyFrame(Frame& frame, const Eigen::Isometry3d& T_
 bool Tracker::relocalise(Frame& frame)
 {
     frame.clearMatches();
-    const int inliers = relocaliseFrame(frame, map_, params_, reference_.get());
+    const int inliers = relocaliseFrame(frame, map_, params_, reference_.get(), framesLost_);
     return inliers >= params_.min_inliers_after_relocalisation;
 }
 
@@ -497,8 +524,11 @@ bool Tracker::trackFromCarriedPose(Frame& frame)
     frame.T_cam_world = *carried;
     updateLocalMap(frame);  // no matches yet: all the points of the last local keyframes
     const int found = searchLocalPoints(frame, localPoints_, params_.local_search_radius);
+    const int needed =
+        state_ == TrackerState::Lost ? params_.carried_min_inliers : params_.min_inliers;
     const bool ok = found >= params_.min_matches_motion && optimise(frame) > 0 &&
-                    frame.discardOutliers() >= 10 && trackLocalMap(frame);
+                    frame.discardOutliers() >= 10 && trackLocalMap(frame) &&
+                    frame.countMatches() >= needed;
     if (!ok)
         frame.clearMatches();
     return ok;

@@ -1,5 +1,6 @@
 // Relocalisation of a lost frame: keyframes ranked by thumbnail similarity (then the keyframe
-// tracking was lost at and its covisible ones), descriptor matches to their map points,
+// tracking was lost at and its covisible ones, then a slice of the rest of the ranking that
+// moves on from one lost frame to the next), descriptor matches to their map points,
 // PnP-RANSAC, then pose refinement and a projection search for more.
 #pragma once
 
@@ -17,7 +18,12 @@ class Map;
 /// `lastReference` (the reference keyframe when tracking was lost; may be null) and as many of
 /// its strongest covisible keyframes, the ones already tried left out: after a short outage the
 /// camera is most likely back where it was, though a thumbnail taken tens of frames before the
-/// loss may look less like the view than an unrelated one does.
+/// loss may look less like the view than an unrelated one does. Then the sweep:
+/// `relocalisation_sweep` more keyframes from the rest of the ranking, the slice numbered
+/// `sweepRound` (wrapping around; negative: none). The tracker passes the count of frames lost
+/// so far, so that a long outage tries every keyframe in turn: a thumbnail of a place seen
+/// past a crowd can rank below the crowd's own keyframes, though its points still place the
+/// frame.
 int relocaliseFrame(Frame& frame, Map& map, const TrackerParameters& params,
-                    const KeyFrame* lastReference = nullptr);
+                    const KeyFrame* lastReference = nullptr, int sweepRound = -1);
 }  // namespace smap::slam

@@ -47,7 +47,16 @@ struct TrackerParameters : public mrpt::config::CLoadableOptions
     /// carried it to (Frame::odometry_T_cam_earlier, chained over lost frames): the last
     /// fallback (TrackingFallback::CarriedPose), min_inliers to succeed. 0 disables it.
     int carried_search_frames = 30;
+    /// Inliers a lost frame needs to be placed from the carried pose (a frame still tracking
+    /// needs min_inliers): chained over several lost frames the odometry can be centimetres
+    /// off, and the search then finds chance matches enough to settle on a wrong pose that the
+    /// new keyframe's points would keep. As many as a relocalisation needs, by default.
+    int carried_min_inliers = 50;
     int relocalisation_candidates = 5;  ///< keyframes tried per lost frame, by image similarity
+    /// Keyframes tried per lost frame beyond those: the next ones down the similarity ranking,
+    /// a further slice on each lost frame in a row (wrapping), so that an outage tries every
+    /// keyframe in turn, however its thumbnail ranks. 0 disables.
+    int relocalisation_sweep = 5;
     /// After this many lost frames in a row that relocalisation could not place, the next frame
     /// with enough depth (2 x min_inliers_after_relocalisation usable keypoints with depth)
     /// re-anchors the map: it becomes a keyframe at the pose predicted by the outside odometry
@@ -62,6 +71,14 @@ struct TrackerParameters : public mrpt::config::CLoadableOptions
     /// static, so keypoints the filter flagged by mistake can still match them. The weights
     /// are restored afterwards (no map points from excluded keypoints). 0 disables.
     double fallback_weight = 0.5;
+    /// A pose that only a fallback stage (raised weights, still movable) found is kept only
+    /// within this distance (m) of the constant-velocity prediction, scaled by the time since
+    /// the last frame over the velocity's own interval: where movers fill the view those
+    /// stages can lock onto them, and a hand-held camera does not jump centimetres away from
+    /// its motion in one frame. The frame is lost instead. 0 disables.
+    double fallback_max_jump = 0.04;
+    /// As fallback_max_jump, for rotation (deg). 0 disables.
+    double fallback_max_jump_deg = 2.0;
     int optimisation_rounds = 4;       ///< pose-only optimisation: outlier rejection rounds
     int optimisation_iterations = 10;  ///< Levenberg-Marquardt iterations per round
 

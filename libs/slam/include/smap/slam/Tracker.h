@@ -155,10 +155,14 @@ private:
     /// regions stay out, unless `stage` is StillMovable and the motion evidence found them still
     /// (Frame::stillMovable). False when the stage would change no weight.
     bool trackWithRaisedWeights(Frame& frame, TrackingFallback stage);
+    /// Whether a fallback stage's pose lies within fallback_max_jump(_deg) of the
+    /// constant-velocity prediction (true without a velocity or with the check off).
+    bool nearPrediction(const Frame& frame, TrackingFallback stage) const;
     bool relocalise(Frame& frame);
     /// The CarriedPose stage: the local map (of the loss, when lost) searched from the pose the
     /// outside odometry carried the frame to; false without such a pose, past
-    /// carried_search_frames lost frames, or with too few inliers.
+    /// carried_search_frames lost frames, or with too few inliers: min_inliers while tracking,
+    /// carried_min_inliers for a lost frame.
     bool trackFromCarriedPose(Frame& frame);
     /// Adds `frame` as a keyframe at its current pose with points from its depth (the first
     /// keyframe, or a re-anchor); false when it has fewer than `min_points` usable depths.
@@ -181,6 +185,7 @@ private:
     TrackerState state_ = TrackerState::NotInitialised;
     std::optional<Frame> last_;
     std::optional<Eigen::Isometry3d> velocity_;  ///< T_cam_lastcam of the last step
+    double velocityInterval_ = 0.0;              ///< s, the time velocity_ spans
     /// Re-anchoring: the last frame with a pose, the velocity then, frames lost since.
     std::optional<Eigen::Isometry3d> lastTracked_T_cam_world_;
     std::optional<Eigen::Isometry3d> velocityAtLoss_;
