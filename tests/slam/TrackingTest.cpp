@@ -67,6 +67,24 @@ std::vector<std::shared_ptr<slam::MapPoint>> addDepthPoints(slam::Map& map, slam
     }
     return points;
 }
+
+/// A map with one keyframe: staticXyz's frame 0 at the origin, with a point per keypoint with
+/// depth (the relocalisation and projection tests start from it).
+struct OneKeyFrameMap
+{
+    slam::RgbdSlam slam{features::OrbParameters{}, slam::TrackerParameters{}, deterministic()};
+    slam::Map map;
+    slam::Frame first;
+    std::shared_ptr<slam::KeyFrame> keyframe;
+    std::vector<std::shared_ptr<slam::MapPoint>> points;
+
+    OneKeyFrameMap() : first(slam.prepare(staticXyz().frames[0]))
+    {
+        first.T_cam_world = Eigen::Isometry3d::Identity();
+        keyframe = map.createKeyFrame(first);
+        points = addDepthPoints(map, *keyframe, first);
+    }
+};
 }  // namespace
 
 TEST(RgbdSlam, StaticSequenceIsTrackedToBetterThanOneCentimetre)
@@ -603,16 +621,11 @@ TEST(RgbdSlam, LostFramesArePlacedFromThePoseTheOdometryCarried)
 TEST(Relocalisation, TriesTheKeyFrameTrackingWasLostAtWhenThumbnailsMislead)
 {
     const auto& seq = staticXyz();
-    slam::RgbdSlam slam(features::OrbParameters{}, slam::TrackerParameters{}, deterministic());
-    slam::Map map;
-    slam::Frame first = slam.prepare(seq.frames[0]);
-    first.T_cam_world = Eigen::Isometry3d::Identity();
-    auto lostAt = map.createKeyFrame(first);
-    ASSERT_GT(addDepthPoints(map, *lostAt, first).size(), 200U);
+    OneKeyFrameMap m;
+    auto& [slam, map, first, lostAt, points] = m;
+    ASSERT_GT(points.size(), 200U);
     // A keyframe without map points whose thumbnail is the lost frame's own.
-    slam::Frame other = slam.prepare(seq.frames[0]);
-    other.T_cam_world = Eigen::Isometry3d::Identity();
-    auto decoy = map.createKeyFrame(other);
+    auto decoy = map.createKeyFrame(first);
 
     constexpr size_t kLost = 8;
     slam::TrackerParameters params;
@@ -645,12 +658,9 @@ TEST(Relocalisation, TriesTheKeyFrameTrackingWasLostAtWhenThumbnailsMislead)
 TEST(Relocalisation, SweepReachesAKeyFrameWhoseThumbnailRanksLast)
 {
     const auto& seq = staticXyz();
-    slam::RgbdSlam slam(features::OrbParameters{}, slam::TrackerParameters{}, deterministic());
-    slam::Map map;
-    slam::Frame first = slam.prepare(seq.frames[0]);
-    first.T_cam_world = Eigen::Isometry3d::Identity();
-    auto right = map.createKeyFrame(first);
-    ASSERT_GT(addDepthPoints(map, *right, first).size(), 200U);
+    OneKeyFrameMap m;
+    auto& [slam, map, first, right, points] = m;
+    ASSERT_GT(points.size(), 200U);
     constexpr size_t kLost = 8, kDecoys = 5;
     std::vector<std::shared_ptr<slam::KeyFrame>> decoys;
     for (size_t d = 0; d < kDecoys; ++d)
