@@ -84,6 +84,18 @@ struct OneKeyFrameMap
         keyframe = map.createKeyFrame(first);
         points = addDepthPoints(map, *keyframe, first);
     }
+
+    /// staticXyz's frame `index` as a lost frame, with thumbnails that rank `lookAlikes`
+    /// first and the keyframe with points last.
+    slam::Frame lostFrame(size_t index,
+                          const std::vector<std::shared_ptr<slam::KeyFrame>>& lookAlikes)
+    {
+        slam::Frame f = slam.prepare(staticXyz().frames[index]);
+        for (const auto& kf : lookAlikes)
+            kf->thumbnail = f.thumbnail.clone();
+        keyframe->thumbnail = -f.thumbnail;
+        return f;
+    }
 };
 }  // namespace
 
@@ -622,26 +634,17 @@ TEST(Relocalisation, TriesTheKeyFrameTrackingWasLostAtWhenThumbnailsMislead)
 {
     const auto& seq = staticXyz();
     OneKeyFrameMap m;
-    auto& [slam, map, first, lostAt, points] = m;
-    ASSERT_GT(points.size(), 200U);
+    ASSERT_GT(m.points.size(), 200U);
     // A keyframe without map points whose thumbnail is the lost frame's own.
-    auto decoy = map.createKeyFrame(first);
-
+    const std::vector<std::shared_ptr<slam::KeyFrame>> decoy = {m.map.createKeyFrame(m.first)};
     constexpr size_t kLost = 8;
     slam::TrackerParameters params;
     params.relocalisation_candidates = 1;
-    auto lostFrame = [&]
-    {
-        slam::Frame f = slam.prepare(seq.frames[kLost]);
-        decoy->thumbnail = f.thumbnail.clone();
-        lostAt->thumbnail = -f.thumbnail;
-        return f;
-    };
-    slam::Frame withoutHint = lostFrame();
-    EXPECT_EQ(slam::relocaliseFrame(withoutHint, map, params), 0);
+    slam::Frame withoutHint = m.lostFrame(kLost, decoy);
+    EXPECT_EQ(slam::relocaliseFrame(withoutHint, m.map, params), 0);
 
-    slam::Frame withHint = lostFrame();
-    const int inliers = slam::relocaliseFrame(withHint, map, params, lostAt.get());
+    slam::Frame withHint = m.lostFrame(kLost, decoy);
+    const int inliers = slam::relocaliseFrame(withHint, m.map, params, m.keyframe.get());
     EXPECT_GE(inliers, params.min_inliers_after_relocalisation);
     const mrpt::poses::CPose3D T_first_lost =
         seq.groundTruth[kLost].T_world_cam - seq.groundTruth[0].T_world_cam;
@@ -657,24 +660,19 @@ TEST(Relocalisation, TriesTheKeyFrameTrackingWasLostAtWhenThumbnailsMislead)
 // without the sweep no round does.
 TEST(Relocalisation, SweepReachesAKeyFrameWhoseThumbnailRanksLast)
 {
-    const auto& seq = staticXyz();
     OneKeyFrameMap m;
-    auto& [slam, map, first, right, points] = m;
-    ASSERT_GT(points.size(), 200U);
+    ASSERT_GT(m.points.size(), 200U);
     constexpr size_t kLost = 8, kDecoys = 5;
     std::vector<std::shared_ptr<slam::KeyFrame>> decoys;
     for (size_t d = 0; d < kDecoys; ++d)
-        decoys.push_back(map.createKeyFrame(first));  // no map points
+        decoys.push_back(m.map.createKeyFrame(m.first));  // no map points
     slam::TrackerParameters params;
     params.relocalisation_candidates = 1;
     params.relocalisation_sweep = 2;
     auto attempt = [&](const slam::TrackerParameters& p, int round)
     {
-        slam::Frame f = slam.prepare(seq.frames[kLost]);
-        for (auto& d : decoys)
-            d->thumbnail = f.thumbnail.clone();
-        right->thumbnail = -f.thumbnail;
-        return slam::relocaliseFrame(f, map, p, nullptr, round);
+        slam::Frame f = m.lostFrame(kLost, decoys);
+        return slam::relocaliseFrame(f, m.map, p, nullptr, round);
     };
     EXPECT_EQ(attempt(params, 0), 0);
     EXPECT_EQ(attempt(params, 1), 0);
