@@ -45,7 +45,8 @@ struct TrackerParameters : public mrpt::config::CLoadableOptions
     /// A frame that no other stage tracks, and for this many frames after a loss a lost frame
     /// before relocalisation, is searched in the local map from the pose the outside odometry
     /// carried it to (Frame::odometry_T_cam_earlier, chained over lost frames): the last
-    /// fallback (TrackingFallback::CarriedPose), min_inliers to succeed. 0 disables it.
+    /// fallback (TrackingFallback::CarriedPose), min_inliers to succeed (carried_min_inliers
+    /// for a lost frame). 0 disables it.
     int carried_search_frames = 30;
     /// Inliers a lost frame needs to be placed from the carried pose (a frame still tracking
     /// needs min_inliers): chained over several lost frames the odometry can be centimetres
