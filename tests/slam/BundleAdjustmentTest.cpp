@@ -1,8 +1,10 @@
-// Global bundle adjustment on a synthetic map with exact observations: drifted keyframes and
-// perturbed points return to the truth, the first keyframe holds the world frame, and a wrong
-// observation is removed rather than followed.
+// Bundle adjustment on a synthetic map with exact observations: drifted keyframes and perturbed
+// points return to the truth, the first keyframe holds the world frame, a wrong observation is
+// removed rather than followed, and a keyframe tied to the others by a few points that moved
+// holds its pose.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <random>
 
@@ -15,6 +17,7 @@ namespace
 {
 constexpr int kKeyFrames = 8;
 constexpr int kPoints = 250;
+const int kMinShared = slam::LocalMappingParameters{}.ba_min_shared_observations;
 
 core::PinholeCamera testCamera()
 {
@@ -143,7 +146,7 @@ TEST(GlobalBundleAdjustment, DriftedKeyFramesAndPointsReturnToTheTruth)
 
     const std::atomic<bool> never{false};
     const uint64_t correctionsBefore = s.map.corrections();
-    const auto stats = slam::globalBundleAdjustment(s.map, 10, never);
+    const auto stats = slam::globalBundleAdjustment(s.map, 10, kMinShared, never);
     EXPECT_EQ(s.map.corrections(), correctionsBefore + 1) << "tracking is told to follow";
     EXPECT_EQ(stats.keyframes, kKeyFrames - 1);
     EXPECT_EQ(stats.fixedKeyframes, 1);
@@ -182,7 +185,7 @@ TEST(GlobalBundleAdjustment, AWrongObservationIsRemovedNotFollowed)
     kf.setPose(nudged);
 
     const std::atomic<bool> never{false};
-    const auto stats = slam::globalBundleAdjustment(s.map, 10, never);
+    const auto stats = slam::globalBundleAdjustment(s.map, 10, kMinShared, never);
     EXPECT_EQ(stats.outliersRemoved, 1);
     EXPECT_FALSE(kf.points[bad]) << "the observation is gone from the keyframe";
     EXPECT_FALSE(wrongPoint->isObservedBy(&kf));
@@ -196,7 +199,90 @@ TEST(GlobalBundleAdjustment, AnEmptyMapIsLeftAlone)
 {
     slam::Map map;
     const std::atomic<bool> never{false};
-    const auto stats = slam::globalBundleAdjustment(map, 10, never);
+    const auto stats = slam::globalBundleAdjustment(map, 10, kMinShared, never);
     EXPECT_EQ(stats.keyframes, 0);
     EXPECT_EQ(stats.points, 0);
+}
+
+namespace
+{
+// The last keyframe keeps `kept` of its points, and sees them where they would be had they
+// moved by `shift` (people that walked): its observations agree with a pose `shift` away.
+const slam::KeyFrame& tieLastKeyFrameByMovedPoints(Scene& s, int kept, const Eigen::Vector3d& shift)
+{
+    slam::KeyFrame& kf = *s.keyframes.back();
+    const core::PinholeCamera camera = testCamera();
+    int shared = 0;
+    for (size_t i = 0; i < kf.points.size(); ++i)
+    {
+        const auto mp = kf.points[i];
+        if (!mp)
+            continue;
+        if (shared++ >= kept)
+        {
+            mp->eraseObservation(&kf);
+            kf.points[i].reset();
+            continue;
+        }
+        const Eigen::Vector3d p_cam = truePose(kKeyFrames - 1) * (mp->position_world + shift);
+        const Eigen::Vector2d uv = camera.project(p_cam);
+        kf.features.undistorted[i] =
+            cv::Point2f(static_cast<float>(uv.x()), static_cast<float>(uv.y()));
+        kf.features.rightU[i] = static_cast<float>(uv.x() - kf.bf / p_cam.z());
+    }
+    return kf;
+}
+
+// The last keyframe tied by 8 points that walked 25 cm, then one global or local adjustment:
+// its stats and how far the keyframe ends from the truth.
+struct TiedRun
+{
+    slam::BundleAdjustmentStats stats;
+    double error = 0.0;
+    double otherKeyFramesError = 0.0;  // the largest, keyframes 1 .. n-2
+};
+
+TiedRun adjustTiedKeyFrame(int minShared, bool global)
+{
+    Scene s;
+    build(s);
+    const auto& kf = tieLastKeyFrameByMovedPoints(s, 8, Eigen::Vector3d(0.25, 0.0, 0.05));
+    const std::atomic<bool> never{false};
+    slam::LocalMappingParameters params;
+    params.ba_min_shared_observations = minShared;
+    TiedRun r;
+    r.stats = global ? slam::globalBundleAdjustment(s.map, 10, minShared, never)
+                     : slam::localBundleAdjustment(s.keyframes.back(), s.map, params, never);
+    r.error = translationError(kf.T_cam_world(), truePose(kKeyFrames - 1));
+    for (int k = 1; k + 1 < kKeyFrames; ++k)
+        r.otherKeyFramesError = std::max(
+            r.otherKeyFramesError,
+            translationError(s.keyframes[static_cast<size_t>(k)]->T_cam_world(), truePose(k)));
+    return r;
+}
+}  // namespace
+
+TEST(GlobalBundleAdjustment, AKeyFrameTiedByAFewMovedPointsHoldsItsPose)
+{
+    const TiedRun held = adjustTiedKeyFrame(kMinShared, true);
+    EXPECT_EQ(held.stats.weaklyTiedHeld, 1);
+    EXPECT_EQ(held.stats.fixedKeyframes, 2) << "the world frame and the weakly tied one";
+    EXPECT_LT(held.error, 1e-9) << "it keeps the pose tracking gave it";
+    EXPECT_EQ(held.stats.outliersRemoved, 8) << "the moved points are not followed";
+    EXPECT_LT(held.otherKeyFramesError, 1e-4);
+
+    const TiedRun free = adjustTiedKeyFrame(0, true);
+    EXPECT_EQ(free.stats.weaklyTiedHeld, 0);
+    EXPECT_GT(free.error, 0.15) << "without the rule the few points carry it off";
+    EXPECT_LT(free.otherKeyFramesError, 1e-4);
+}
+
+TEST(LocalBundleAdjustment, AKeyFrameTiedByAFewMovedPointsHoldsItsPose)
+{
+    const TiedRun held = adjustTiedKeyFrame(kMinShared, false);
+    EXPECT_EQ(held.stats.weaklyTiedHeld, 1);
+    EXPECT_LT(held.error, 1e-9);
+    const TiedRun free = adjustTiedKeyFrame(0, false);
+    EXPECT_EQ(free.stats.weaklyTiedHeld, 0);
+    EXPECT_GT(free.error, 0.15);
 }

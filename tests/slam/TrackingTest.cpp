@@ -793,4 +793,10 @@ TEST(SlamParameters, InvalidValuesNameTheKey)
     EXPECT_NE(test::inputErrorOf([&] { nb.loadFromConfigFile(neighbours, ""); })
                   .find("new_point_neighbours = -1"),
               std::string::npos);
+    mrpt::config::CConfigFileMemory held;
+    held.write("local_mapping", "ba_min_shared_observations", -3);
+    slam::LocalMappingParameters h;
+    EXPECT_NE(test::inputErrorOf([&] { h.loadFromConfigFile(held, ""); })
+                  .find("ba_min_shared_observations = -3"),
+              std::string::npos);
 }

@@ -312,8 +312,11 @@ core::JsonValue trackingSummary(const RunLog& log, const pipeline::SemanticMappe
         .set("map_points", static_cast<uint64_t>(slam.numPoints()))
         .set("points_from_neighbours", static_cast<uint64_t>(ms.pointsFromNeighbours))
         .set("local_ba_runs", static_cast<uint64_t>(ms.baRuns))
+        .set("local_ba_weakly_tied", static_cast<uint64_t>(ms.baWeaklyTiedHeld))
         .set("global_ba_keyframes",
              static_cast<uint64_t>(slam.globalBundleAdjustmentStats().keyframes))
+        .set("global_ba_weakly_tied",
+             static_cast<uint64_t>(slam.globalBundleAdjustmentStats().weaklyTiedHeld))
         .set("global_ba_outliers_removed",
              static_cast<uint64_t>(slam.globalBundleAdjustmentStats().outliersRemoved))
         .set("global_ba_seconds", slam.globalBundleAdjustmentSeconds());

@@ -70,8 +70,9 @@ struct BaProblem
         kfs.push_back(b);
     }
 
-    // The points of keyframes [0, nPoseKeyFrames) and all their observations; observing
-    // keyframes not in the problem yet join it held still. Hold the map mutex.
+    // The points of keyframes [0, nPoseKeyFrames) and all their observations (those of weight
+    // zero left out); observing keyframes not in the problem yet join it held still. Hold the
+    // map mutex.
     void addPointsOf(const Map& map, size_t nPoseKeyFrames)
     {
         std::map<uint64_t, size_t> ptIndex;
@@ -107,7 +108,34 @@ struct BaProblem
                 obs.push_back(b);
             }
         }
-        // Gauge freedom: with no fixed keyframe, hold the oldest one.
+    }
+
+    // A keyframe with fewer than `minShared` observations of points that another keyframe of
+    // the problem sees too holds its pose: the adjustment knows less about it than tracking
+    // did when it placed it, and a few wrong points would carry it off. Returns how many.
+    int holdWeaklyTied(int minShared)
+    {
+        std::vector<int> observers(pts.size(), 0), shared(kfs.size(), 0);
+        for (const auto& o : obs)
+            observers[o.point]++;
+        for (const auto& o : obs)
+            if (observers[o.point] > 1)
+                shared[o.keyframe]++;
+        int held = 0;
+        for (size_t k = 0; k < kfs.size(); ++k)
+        {
+            if (!kfs[k].fixed && shared[k] < minShared)
+            {
+                kfs[k].fixed = true;
+                held++;
+            }
+        }
+        return held;
+    }
+
+    // Gauge freedom: with no fixed keyframe, hold the oldest one.
+    void holdGauge()
+    {
         bool anyFixed = false;
         for (const auto& k : kfs)
             anyFixed = anyFixed || k.fixed;
@@ -280,11 +308,15 @@ BundleAdjustmentStats localBundleAdjustment(const std::shared_ptr<KeyFrame>& key
                 pb.addKeyFrame(map, *kf, kf->id() == 0);
         pb.addPointsOf(map, pb.kfs.size());
     }
-    return solveAndWriteBack(pb, map, BaScope::Local, params.ba_iterations,
-                             params.ba_refine_iterations, abort);
+    const int weaklyTied = pb.holdWeaklyTied(params.ba_min_shared_observations);
+    pb.holdGauge();
+    auto stats = solveAndWriteBack(pb, map, BaScope::Local, params.ba_iterations,
+                                   params.ba_refine_iterations, abort);
+    stats.weaklyTiedHeld = weaklyTied;
+    return stats;
 }
 
-BundleAdjustmentStats globalBundleAdjustment(Map& map, int iterations,
+BundleAdjustmentStats globalBundleAdjustment(Map& map, int iterations, int min_shared_observations,
                                              const std::atomic<bool>& abort)
 {
     BaProblem pb;
@@ -295,6 +327,10 @@ BundleAdjustmentStats globalBundleAdjustment(Map& map, int iterations,
                 pb.addKeyFrame(map, *kf, id == 0);
         pb.addPointsOf(map, pb.kfs.size());
     }
-    return solveAndWriteBack(pb, map, BaScope::Global, iterations, iterations, abort);
+    const int weaklyTied = pb.holdWeaklyTied(min_shared_observations);
+    pb.holdGauge();
+    auto stats = solveAndWriteBack(pb, map, BaScope::Global, iterations, iterations, abort);
+    stats.weaklyTiedHeld = weaklyTied;
+    return stats;
 }
 }  // namespace smap::slam

@@ -106,6 +106,7 @@ void LocalMapper::processHeld(const std::shared_ptr<KeyFrame>& kf)
     {
         stats_.baRuns++;
         stats_.baAborted += ba.aborted ? 1 : 0;
+        stats_.baWeaklyTiedHeld += static_cast<size_t>(ba.weaklyTiedHeld);
         stats_.baSeconds += baSeconds;
     }
     stats_.totalSeconds += secondsSince(t0);

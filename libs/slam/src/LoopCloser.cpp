@@ -16,12 +16,13 @@ namespace smap::slam
 using core::secondsSince;
 
 LoopCloser::LoopCloser(Map& map, LocalMapper& mapper, const LoopClosingParameters& params,
-                       int covisibility_min_weight)
+                       const LocalMappingParameters& mapping)
     : COutputLogger("loop-closing"),
       map_(map),
       mapper_(mapper),
       params_(params),
-      covisibilityMinWeight_(covisibility_min_weight),
+      covisibilityMinWeight_(mapping.covisibility_min_weight),
+      baMinSharedObservations_(mapping.ba_min_shared_observations),
       detector_(std::make_unique<LoopDetector>(params)),
       queue_(std::make_unique<KeyFrameQueue>(params_.enabled && params_.threaded,
                                              [this](const std::shared_ptr<KeyFrame>& kf)
@@ -134,7 +135,8 @@ void LoopCloser::close(const std::shared_ptr<KeyFrame>& kf, const LoopMatch& mat
     if (params_.global_ba_iterations > 0)
     {
         const auto tBa = std::chrono::steady_clock::now();
-        globalBundleAdjustment(map_, params_.global_ba_iterations, mapper_.keyFrameWaiting());
+        globalBundleAdjustment(map_, params_.global_ba_iterations, baMinSharedObservations_,
+                               mapper_.keyFrameWaiting());
         c.globalBaSeconds = secondsSince(tBa);
     }
 }

@@ -30,8 +30,7 @@ RgbdSlam::RgbdSlam(const features::OrbParameters& orb, const TrackerParameters& 
       extractor_(std::make_unique<features::OrbExtractor>(orb)),
       map_(std::make_unique<Map>()),
       mapper_(std::make_unique<LocalMapper>(*map_, mapping)),
-      loopCloser_(
-          std::make_unique<LoopCloser>(*map_, *mapper_, loop, mapping.covisibility_min_weight)),
+      loopCloser_(std::make_unique<LoopCloser>(*map_, *mapper_, loop, mapping)),
       tracker_(std::make_unique<Tracker>(*map_, *mapper_, trackingParams_))
 {
     mapper_->setProcessedSink([this](const std::shared_ptr<KeyFrame>& kf)
@@ -108,13 +107,14 @@ void RgbdSlam::finish()
     finished_ = true;
     const auto t0 = std::chrono::steady_clock::now();
     const std::atomic<bool> never{false};
-    globalBa_ = globalBundleAdjustment(*map_, mappingParams_.global_ba_iterations, never);
+    globalBa_ = globalBundleAdjustment(*map_, mappingParams_.global_ba_iterations,
+                                       mappingParams_.ba_min_shared_observations, never);
     globalBaSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     MRPT_LOG_INFO_FMT(
-        "global bundle adjustment: %d keyframes (%d held), %d points, %d observations, %d "
-        "outliers removed, %.2f s",
-        globalBa_.keyframes, globalBa_.fixedKeyframes, globalBa_.points, globalBa_.observations,
-        globalBa_.outliersRemoved, globalBaSeconds_);
+        "global bundle adjustment: %d keyframes (%d held, %d of them weakly tied), %d points, %d "
+        "observations, %d outliers removed, %.2f s",
+        globalBa_.keyframes, globalBa_.fixedKeyframes, globalBa_.weaklyTiedHeld, globalBa_.points,
+        globalBa_.observations, globalBa_.outliersRemoved, globalBaSeconds_);
 }
 
 void RgbdSlam::forEachFramePose(

@@ -119,6 +119,7 @@ core::OptionFields LocalMappingParameters::fields(const std::string& section)
         .add("ba_max_keyframes", ba_max_keyframes)
         .add("ba_iterations", ba_iterations)
         .add("ba_refine_iterations", ba_refine_iterations)
+        .add("ba_min_shared_observations", ba_min_shared_observations)
         .add("global_ba_iterations", global_ba_iterations)
         .add("covisibility_min_weight", covisibility_min_weight)
         .add("fuse_neighbours", fuse_neighbours)
@@ -139,6 +140,10 @@ void LocalMappingParameters::loadFromConfigFile(const mrpt::config::CConfigFileB
     if (global_ba_iterations < 0)
         throw core::InputError(mrpt::format(
             "[local_mapping] global_ba_iterations = %d must be >= 0", global_ba_iterations));
+    if (ba_min_shared_observations < 0)
+        throw core::InputError(
+            mrpt::format("[local_mapping] ba_min_shared_observations = %d must be >= 0",
+                         ba_min_shared_observations));
     if (ba_max_keyframes < 2)
         throw core::InputError(
             mrpt::format("[local_mapping] ba_max_keyframes = %d must be >= 2", ba_max_keyframes));

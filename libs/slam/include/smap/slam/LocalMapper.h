@@ -61,6 +61,7 @@ public:
         size_t pointsFromNeighbours = 0;
         size_t baRuns = 0;
         size_t baAborted = 0;
+        size_t baWeaklyTiedHeld = 0;  ///< keyframes held over all runs (BundleAdjustment.h)
         double baSeconds = 0.0;
         double totalSeconds = 0.0;
     };

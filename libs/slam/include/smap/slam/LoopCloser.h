@@ -57,9 +57,10 @@ struct LoopClosingStats
 class LoopCloser : public mrpt::system::COutputLogger
 {
 public:
-    /// `covisibility_min_weight`: local mapping's, for the edges re-counted after fusion.
+    /// `mapping`: local mapping's `covisibility_min_weight`, for the edges re-counted after
+    /// fusion, and `ba_min_shared_observations`, for the global BA after a correction.
     LoopCloser(Map& map, LocalMapper& mapper, const LoopClosingParameters& params,
-               int covisibility_min_weight);
+               const LocalMappingParameters& mapping);
     ~LoopCloser() override;
     LoopCloser(const LoopCloser&) = delete;
     LoopCloser& operator=(const LoopCloser&) = delete;
@@ -82,6 +83,7 @@ private:
     LocalMapper& mapper_;
     LoopClosingParameters params_;
     int covisibilityMinWeight_;
+    int baMinSharedObservations_;
     std::unique_ptr<LoopDetector> detector_;
     std::vector<PoseGraphEdge> loopEdges_;
 

@@ -99,6 +99,10 @@ struct LocalMappingParameters : public mrpt::config::CLoadableOptions
     int ba_max_keyframes = 14;     ///< the keyframe and its strongest covisible ones move
     int ba_iterations = 3;         ///< robust local BA before outliers are removed
     int ba_refine_iterations = 5;  ///< after removal
+    /// A keyframe with fewer inlier observations of points that another keyframe of the
+    /// adjustment sees too holds its pose in local and global BA (tracking placed it from at
+    /// least `[tracking] min_inliers`; a few wrong points would carry it off). 0: none held.
+    int ba_min_shared_observations = 20;
     /// At the end of a run, a bundle adjustment over every keyframe and point: this many robust
     /// iterations, then as many after outliers are removed (0 = none).
     int global_ba_iterations = 10;
