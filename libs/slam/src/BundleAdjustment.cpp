@@ -37,6 +37,7 @@ struct BaKeyFrame
 {
     std::shared_ptr<KeyFrame> kf;
     std::array<double, 6> pose{};
+    std::array<double, 6> tracked{};  // the pose before the adjustment
     bool fixed = false;
     CameraModel cam;
 };
@@ -44,6 +45,7 @@ struct BaPoint
 {
     std::shared_ptr<MapPoint> mp;
     std::array<double, 3> position{};
+    std::array<double, 3> initial{};  // before the adjustment
 };
 struct BaObservation
 {
@@ -65,8 +67,9 @@ struct BaProblem
     void addKeyFrame(const Map& map, const KeyFrame& kf, bool fixed)
     {
         kfIndex[kf.id()] = kfs.size();
-        BaKeyFrame b{map.allKeyFrames().at(kf.id()), {}, fixed, CameraModel(kf.camera, kf.bf)};
+        BaKeyFrame b{map.allKeyFrames().at(kf.id()), {}, {}, fixed, CameraModel(kf.camera, kf.bf)};
         poseToParams(kf.T_cam_world(), b.pose.data());
+        b.tracked = b.pose;
         kfs.push_back(b);
     }
 
@@ -83,8 +86,9 @@ struct BaProblem
                 if (!mp || mp->isBad() || ptIndex.count(mp->id()))
                     continue;
                 ptIndex[mp->id()] = pts.size();
-                pts.push_back(
-                    {mp, {mp->position_world.x(), mp->position_world.y(), mp->position_world.z()}});
+                const std::array<double, 3> p{mp->position_world.x(), mp->position_world.y(),
+                                              mp->position_world.z()};
+                pts.push_back({mp, p, p});
             }
         }
         for (size_t p = 0; p < pts.size(); ++p)
@@ -110,16 +114,18 @@ struct BaProblem
         }
     }
 
-    // A keyframe with fewer than `minShared` observations of points that another keyframe of
-    // the problem sees too holds its pose: the adjustment knows less about it than tracking
-    // did when it placed it, and a few wrong points would carry it off. Returns how many.
+    // A keyframe with fewer than `minShared` inlier observations of points that another
+    // keyframe of the problem sees too holds the pose it had before the adjustment: the
+    // adjustment knows less about it than tracking did when it placed it, and a few wrong
+    // points would carry it off. Returns how many it newly holds.
     int holdWeaklyTied(int minShared)
     {
         std::vector<int> observers(pts.size(), 0), shared(kfs.size(), 0);
         for (const auto& o : obs)
-            observers[o.point]++;
+            if (!o.outlier)
+                observers[o.point]++;
         for (const auto& o : obs)
-            if (observers[o.point] > 1)
+            if (!o.outlier && observers[o.point] > 1)
                 shared[o.keyframe]++;
         int held = 0;
         for (size_t k = 0; k < kfs.size(); ++k)
@@ -127,10 +133,22 @@ struct BaProblem
             if (!kfs[k].fixed && shared[k] < minShared)
             {
                 kfs[k].fixed = true;
+                kfs[k].pose = kfs[k].tracked;
                 held++;
             }
         }
         return held;
+    }
+
+    // Every keyframe and point back where it was before the adjustment, no outliers.
+    void restart()
+    {
+        for (auto& k : kfs)
+            k.pose = k.tracked;
+        for (auto& p : pts)
+            p.position = p.initial;
+        for (auto& o : obs)
+            o.outlier = false;
     }
 
     // Gauge freedom: with no fixed keyframe, hold the oldest one.
@@ -265,27 +283,46 @@ int writeBack(const BaProblem& pb, Map& map, BaScope scope)
     return removed;
 }
 
-// Robust solve, outliers classified, plain solve, classified again; then the result is
-// written back under the map mutex.
-BundleAdjustmentStats solveAndWriteBack(BaProblem& pb, Map& map, BaScope scope,
-                                        int robust_iterations, int refine_iterations,
-                                        const std::atomic<bool>& abort)
+void countKeyFrames(const BaProblem& pb, BundleAdjustmentStats& stats)
 {
-    BundleAdjustmentStats stats;
+    stats.keyframes = stats.fixedKeyframes = 0;
     for (const auto& k : pb.kfs)
         (k.fixed ? stats.fixedKeyframes : stats.keyframes)++;
+}
+
+// Weakly tied keyframes held, robust solve, outliers classified. Keyframes that the outliers
+// leave weakly tied are held too and the robust solve starts again from the poses and points
+// before (their wrong observations must not have moved the rest). Plain solve, classified
+// again; then the result is written back under the map mutex.
+BundleAdjustmentStats solveAndWriteBack(BaProblem& pb, Map& map, BaScope scope,
+                                        int robust_iterations, int refine_iterations,
+                                        int min_shared_observations, const std::atomic<bool>& abort)
+{
+    BundleAdjustmentStats stats;
+    stats.weaklyTiedHeld = pb.holdWeaklyTied(min_shared_observations);
+    pb.holdGauge();
+    countKeyFrames(pb, stats);
     stats.points = static_cast<int>(pb.pts.size());
     stats.observations = static_cast<int>(pb.obs.size());
     if (stats.keyframes == 0 || pb.pts.empty())
         return stats;
     AbortCallback callback(abort);
-    for (const auto& [iterations, robust] :
-         {std::pair<int, bool>{robust_iterations, true}, {refine_iterations, false}})
+    const auto solve = [&](int iterations, bool robust)
     {
         if (iterations > 0 && !abort.load())
             stats.aborted = solveOnce(pb, iterations, robust, callback) || stats.aborted;
         classifyOutliers(pb);
+    };
+    solve(robust_iterations, true);
+    const int leftWeak = pb.holdWeaklyTied(min_shared_observations);
+    if (leftWeak > 0)
+    {
+        stats.weaklyTiedHeld += leftWeak;
+        pb.restart();
+        solve(robust_iterations, true);
     }
+    solve(refine_iterations, false);
+    countKeyFrames(pb, stats);
     stats.aborted = stats.aborted || abort.load();
     stats.outliersRemoved = writeBack(pb, map, scope);
     return stats;
@@ -308,12 +345,8 @@ BundleAdjustmentStats localBundleAdjustment(const std::shared_ptr<KeyFrame>& key
                 pb.addKeyFrame(map, *kf, kf->id() == 0);
         pb.addPointsOf(map, pb.kfs.size());
     }
-    const int weaklyTied = pb.holdWeaklyTied(params.ba_min_shared_observations);
-    pb.holdGauge();
-    auto stats = solveAndWriteBack(pb, map, BaScope::Local, params.ba_iterations,
-                                   params.ba_refine_iterations, abort);
-    stats.weaklyTiedHeld = weaklyTied;
-    return stats;
+    return solveAndWriteBack(pb, map, BaScope::Local, params.ba_iterations,
+                             params.ba_refine_iterations, params.ba_min_shared_observations, abort);
 }
 
 BundleAdjustmentStats globalBundleAdjustment(Map& map, int iterations, int min_shared_observations,
@@ -327,10 +360,7 @@ BundleAdjustmentStats globalBundleAdjustment(Map& map, int iterations, int min_s
                 pb.addKeyFrame(map, *kf, id == 0);
         pb.addPointsOf(map, pb.kfs.size());
     }
-    const int weaklyTied = pb.holdWeaklyTied(min_shared_observations);
-    pb.holdGauge();
-    auto stats = solveAndWriteBack(pb, map, BaScope::Global, iterations, iterations, abort);
-    stats.weaklyTiedHeld = weaklyTied;
-    return stats;
+    return solveAndWriteBack(pb, map, BaScope::Global, iterations, iterations,
+                             min_shared_observations, abort);
 }
 }  // namespace smap::slam
