@@ -787,16 +787,15 @@ TEST(SlamParameters, InvalidValuesNameTheKey)
     EXPECT_NE(
         test::inputErrorOf([&] { m.loadFromConfigFile(cfg2, ""); }).find("keyframe_redundancy"),
         std::string::npos);
-    mrpt::config::CConfigFileMemory neighbours;
-    neighbours.write("local_mapping", "new_point_neighbours", -1);
-    slam::LocalMappingParameters nb;
-    EXPECT_NE(test::inputErrorOf([&] { nb.loadFromConfigFile(neighbours, ""); })
-                  .find("new_point_neighbours = -1"),
-              std::string::npos);
-    mrpt::config::CConfigFileMemory held;
-    held.write("local_mapping", "ba_min_shared_observations", -3);
-    slam::LocalMappingParameters h;
-    EXPECT_NE(test::inputErrorOf([&] { h.loadFromConfigFile(held, ""); })
-                  .find("ba_min_shared_observations = -3"),
-              std::string::npos);
+    for (const auto& [key, value] : {std::pair<const char*, int>{"new_point_neighbours", -1},
+                                     {"ba_min_shared_observations", -3}})
+    {
+        mrpt::config::CConfigFileMemory bad;
+        bad.write("local_mapping", key, value);
+        slam::LocalMappingParameters b;
+        EXPECT_NE(test::inputErrorOf([&] { b.loadFromConfigFile(bad, ""); })
+                      .find(std::string(key) + " = " + std::to_string(value)),
+                  std::string::npos)
+            << key;
+    }
 }
