@@ -53,6 +53,12 @@ void printFalsePositives(const eval::KeypointDetectionScore& s, std::ostream& ou
         "%zu keypoints on a mask, %.1f %% of %zu beside one\n",
         eval::KeypointDetectionScore::kOutlineBandPx, 100.0 * on.saidFraction(), on.keypoints,
         100.0 * beside.saidFraction(), beside.keypoints);
+    out << mrpt::format(
+        "outline bound: right on every keypoint off the band and saying dynamic at one rate on "
+        "both sides of it, recall %.2f leaves precision %.4f at best (%zu keypoints on a mask "
+        "off the band)\n",
+        eval::KeypointDetectionScore::kTargetRecall,
+        s.bestPrecisionAtRecall(eval::KeypointDetectionScore::kTargetRecall), s.maskOffBand);
 }
 
 /// smap-eval keypoints: every DEBUG_DIR/*.csv against MASK_DIR/<same stem>.png.

@@ -2,6 +2,7 @@
 
 #include <mrpt/core/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
@@ -30,6 +31,7 @@ KeypointDetectionScore& KeypointDetectionScore::operator+=(const KeypointDetecti
     trueNegatives += o.trueNegatives;
     frames += o.frames;
     nearEdge += o.nearEdge;
+    maskOffBand += o.maskOffBand;
     for (size_t k = 0; k < falsePositivesByDistance.size(); ++k)
         falsePositivesByDistance[k] += o.falsePositivesByDistance[k];
     for (size_t k = 0; k < falsePositivesByEvidence.size(); ++k)
@@ -69,6 +71,19 @@ double KeypointDetectionScore::precisionWithin(double px) const
     return n == 0 ? 1.0 : static_cast<double>(truePositives) / static_cast<double>(n);
 }
 
+double KeypointDetectionScore::bestPrecisionAtRecall(double recall) const
+{
+    const auto offBand = static_cast<double>(maskOffBand);
+    const auto onBand = static_cast<double>(bandOnMask.keypoints);
+    const auto besideBand = static_cast<double>(bandBesideMask.keypoints);
+    const double needed = recall * (offBand + onBand) - offBand;
+    if (needed <= 0.0 || onBand == 0.0)
+        return 1.0;
+    const double rate = std::min(1.0, needed / onBand);
+    const double truePositives = offBand + rate * onBand;
+    return truePositives / (truePositives + rate * besideBand);
+}
+
 core::JsonValue KeypointDetectionScore::toJson() const
 {
     auto j = core::JsonValue::object();
@@ -96,7 +111,9 @@ core::JsonValue KeypointDetectionScore::toJson() const
         .set("on_mask_keypoints", static_cast<double>(bandOnMask.keypoints))
         .set("on_mask_said_dynamic", static_cast<double>(bandOnMask.said))
         .set("beside_mask_keypoints", static_cast<double>(bandBesideMask.keypoints))
-        .set("beside_mask_said_dynamic", static_cast<double>(bandBesideMask.said));
+        .set("beside_mask_said_dynamic", static_cast<double>(bandBesideMask.said))
+        .set("mask_keypoints_off_band", static_cast<double>(maskOffBand))
+        .set("best_precision_at_recall_0.95", bestPrecisionAtRecall(kTargetRecall));
     j.set("outline_band", std::move(band));
     return j;
 }
@@ -222,6 +239,10 @@ KeypointDetectionScore scoreKeypointFrame(const std::string& evidence_csv,
             auto& side = truth ? score.bandOnMask : score.bandBesideMask;
             side.keypoints++;
             side.said += said ? 1 : 0;
+        }
+        else if (truth)
+        {
+            score.maskOffBand++;
         }
         if (!nearEdge.empty() && nearEdge.at<uint8_t>(py, px))
         {

@@ -40,12 +40,16 @@ struct KeypointDetectionScore
     /// there are flagged at the same rate on the person's side as beside it, nothing in them
     /// tells the sides apart and the band's label is a coin flip for the score.
     static constexpr int kOutlineBandPx = 3;
+    /// The recall the outline bound is reported at: the project's target (docs/dynamic.md).
+    static constexpr double kTargetRecall = 0.95;
     struct BandSide
     {
         size_t keypoints = 0, said = 0;
         double saidFraction() const;  ///< 0 when there are none
     };
     BandSide bandOnMask, bandBesideMask;
+    /// Keypoints on a mask outside the outline band, scored or not.
+    size_t maskOffBand = 0;
 
     void add(bool truth, bool said);
     KeypointDetectionScore& operator+=(const KeypointDetectionScore& o);
@@ -55,6 +59,12 @@ struct KeypointDetectionScore
     /// kDistanceBands) were not said: what deciding the outline corners by motion, which move
     /// with the person, leaves at best.
     double precisionWithin(double px) const;
+    /// The best precision at `recall` (0..1) of a decision that is right on every keypoint off
+    /// the outline band and says dynamic at one rate on both sides of it, the least rate that
+    /// reaches `recall`: what deciding the outline by motion allows at best, the corners there
+    /// moving with the person on either side. 1 when the keypoints off the band reach `recall`
+    /// alone.
+    double bestPrecisionAtRecall(double recall) const;
     core::JsonValue toJson() const;
 };
 
