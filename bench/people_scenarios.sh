@@ -7,9 +7,11 @@
 # filter off, in the paper's mode, in the default mode without semantic evidence, and in the
 # default mode. Prints a Markdown table: frames with a pose, ATE RMSE against the ground truth
 # (the SfM reference for 7-Scenes), whether it is within max(1.5 x, + 1 cm) of the people-free
-# run, dynamic-keypoint recall / precision (default modes), and the people left in the point
-# map and in the octomap's occupied voxels (bench/map_ghosts.py against the people-free maps,
-# with the shares where a person was and on a person, composites and presets; default modes).
+# run, dynamic-keypoint recall / precision (default modes; with the outline bound, the best
+# precision at recall 0.95 a decision by motion reaches, smap-eval keypoints), and the people
+# left in the point map and in the octomap's occupied voxels (bench/map_ghosts.py against the
+# people-free maps, with the shares where a person was and on a person, composites and presets;
+# default modes).
 # Usage: bench/people_scenarios.sh [BUILD_DIR] [extra semantic-mapper args...]
 #   SMAP_SCENARIOS="NAME:FRAMES[:DISTANCE_SCALE] ..." (default: crossing:300 crowd:234
 #   crowd:234:1.7 seated:500 stop_and_stay:450; smap-synth --distance-scale, 1.7 puts the crowd
@@ -42,9 +44,11 @@ track() {  # input config output extra...
 rmse() { "$bin/smap-eval" ate "$1" "$2" | awk '/rmse/ {printf "%.4f", $2}'; }
 within() { awk -v a="$1" -v b="$2" 'BEGIN {m = 1.5 * b; if (b + 0.01 > m) m = b + 0.01;
                                           print (a <= m ? "yes" : "no")}'; }
-keypoints() {
+keypoints() {  # "recall / precision (bound P)": P, smap-eval's outline bound at recall 0.95
     "$bin/smap-eval" keypoints "$1/dynamic" "$2/dynamic" |
-        awk '/recall/ {printf "%.3f / %.3f", $4, $6}'
+        awk '/^frames/ {printf "%.3f / %.3f", $4, $6}
+             /^outline bound/ {for (i = 1; i < NF; i++) if ($i == "precision") b = $(i + 1)}
+             END {if (b != "") printf " (bound %.3f)", b}'
 }
 # ghosts free run, run, map file [folder] -> "x.xx %" and, given the smap-synth folder (composite
 # or preset), " (y.yy % where a
