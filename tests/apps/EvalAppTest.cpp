@@ -166,6 +166,7 @@ TEST(EvalApp, KeypointsSplitsTheOutlineBandBySide)
                   std::string::npos)
             << out.str();
         EXPECT_NE(json.find("\"mask_keypoints_off_band\": 1"), std::string::npos) << json;
+        EXPECT_NE(json.find("\"best_precision_at_recall_0.95\": 0.50"), std::string::npos) << json;
     }
 }
 

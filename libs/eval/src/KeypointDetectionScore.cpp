@@ -113,7 +113,8 @@ core::JsonValue KeypointDetectionScore::toJson() const
         .set("beside_mask_keypoints", static_cast<double>(bandBesideMask.keypoints))
         .set("beside_mask_said_dynamic", static_cast<double>(bandBesideMask.said))
         .set("mask_keypoints_off_band", static_cast<double>(maskOffBand))
-        .set("best_precision_at_recall_0.95", bestPrecisionAtRecall(kTargetRecall));
+        .set(mrpt::format("best_precision_at_recall_%g", kTargetRecall),
+             bestPrecisionAtRecall(kTargetRecall));
     j.set("outline_band", std::move(band));
     return j;
 }
