@@ -119,6 +119,16 @@ def main():
     with open(json_path) as f:
         got = json.load(f)
 
+    # The longest run of ground-truth rows (time order) that no pair uses.
+    paired = np.zeros(len(t_gt), bool)
+    paired[[i for i, _ in matches]] = True
+    run = longest = 0
+    for p in paired[np.argsort(t_gt, kind="stable")]:
+        run = 0 if p else run + 1
+        longest = max(longest, run)
+    ref["longest_gap"] = longest
+    got["longest_gap"] = got["longest_gap"]["poses"]
+
     worst = 0.0
     print("%-8s %20s %20s %12s" % ("key", "smap-eval", "reference", "|diff|"))
     for k, v in ref.items():

@@ -115,3 +115,34 @@ TEST(Ate, Sim3AlignmentRemovesScale)
     EXPECT_LT(r.translation.rmse, 1e-9);
     EXPECT_NEAR(r.alignment.scale, 2.0, 1e-9);
 }
+
+TEST(Ate, LongestGapIsTheLongestRunOfGroundTruthWithoutAnEstimate)
+{
+    // 20 ground-truth poses; the estimate misses rows 3-6 (an outage of four), 10-11 and 19,
+    // and is given out of time order: the longest gap is rows 3-6.
+    const auto gt = test::curve(20);
+    core::Trajectory est;
+    for (size_t i = 20; i-- > 0;)
+        if (!((i >= 3 && i <= 6) || i == 10 || i == 11 || i == 19))
+            est.push_back(gt[i]);
+    const auto r = eval::computeAte(gt, est);
+    EXPECT_EQ(r.pairs, 13u);
+    EXPECT_EQ(r.longestGap.poses, 4u);
+    EXPECT_EQ(r.longestGap.firstRow, 3u);
+    EXPECT_DOUBLE_EQ(r.longestGap.firstTimestamp, gt[3].timestamp);
+    EXPECT_DOUBLE_EQ(r.longestGap.lastTimestamp, gt[6].timestamp);
+
+    const auto full = eval::computeAte(gt, gt);
+    EXPECT_EQ(full.longestGap.poses, 0u);
+}
+
+TEST(Ate, GapAtTheEndCounts)
+{
+    // The estimate stops after row 11 of 30: the last 18 poses are one gap.
+    const auto gt = test::curve(30);
+    const core::Trajectory est(gt.begin(), gt.begin() + 12);
+    const auto r = eval::computeAte(gt, est);
+    EXPECT_EQ(r.longestGap.poses, 18u);
+    EXPECT_EQ(r.longestGap.firstRow, 12u);
+    EXPECT_DOUBLE_EQ(r.longestGap.lastTimestamp, gt[29].timestamp);
+}

@@ -40,6 +40,19 @@ TEST(EvalReport, JsonHasTheDocumentedKeys)
     for (const char* k : {"\"rmse\"", "\"mean\"", "\"median\"", "\"std\"", "\"min\"", "\"max\"",
                           "\"pairs\": 100", "\"coverage\": 1"})
         EXPECT_NE(j.find(k), std::string::npos) << k << " in " << j;
+    EXPECT_NE(j.find("\"longest_gap\""), std::string::npos) << j;
+    EXPECT_NE(j.find("\"poses\": 0"), std::string::npos) << j;
+    EXPECT_EQ(j.find("\"first_row\""), std::string::npos) << j;
+    EXPECT_EQ(eval::ateToText(r).find("longest gap"), std::string::npos);
+    const core::Trajectory early(gt.begin(), gt.begin() + 90);
+    const auto cut = eval::computeAte(gt, early);
+    const std::string cj = eval::ateToJson(cut, {}).dump();
+    EXPECT_NE(cj.find("\"poses\": 10"), std::string::npos) << cj;
+    EXPECT_NE(cj.find("\"first_row\": 90"), std::string::npos) << cj;
+    EXPECT_NE(eval::ateToText(cut).find(
+                  "longest gap 10 ground-truth poses without an estimate (rows 90-99"),
+              std::string::npos)
+        << eval::ateToText(cut);
     const std::string rj = eval::rpeToJson(eval::computeRpe(gt, gt), {}).dump();
     EXPECT_NE(rj.find("\"translation\""), std::string::npos);
     EXPECT_NE(rj.find("\"delta_unit\": \"s\""), std::string::npos);

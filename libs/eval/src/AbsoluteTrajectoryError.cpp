@@ -3,6 +3,7 @@
 #include <mrpt/core/format.h>
 
 #include <algorithm>
+#include <numeric>
 
 #include "TrajectoryAssociation.h"
 #include "smap/core/InputError.h"
@@ -16,6 +17,36 @@ std::string timeRange(const core::Trajectory& t)
     const auto [lo, hi] = std::minmax_element(
         t.begin(), t.end(), [](const auto& a, const auto& b) { return a.timestamp < b.timestamp; });
     return mrpt::format("[%.6f, %.6f]", lo->timestamp, hi->timestamp);
+}
+
+/// The longest run of ground-truth poses, in time order, that no pair uses.
+AteGap longestUnpairedRun(const core::Trajectory& groundTruth,
+                          const std::vector<core::AssociatedPair>& matches)
+{
+    std::vector<bool> paired(groundTruth.size(), false);
+    for (const auto& m : matches)
+        paired[m.first] = true;
+    std::vector<size_t> order(groundTruth.size());
+    std::iota(order.begin(), order.end(), 0);
+    std::stable_sort(order.begin(), order.end(),
+                     [&groundTruth](size_t a, size_t b)
+                     { return groundTruth[a].timestamp < groundTruth[b].timestamp; });
+    AteGap best;
+    size_t runStart = 0;
+    for (size_t row = 0; row <= order.size(); ++row)
+    {
+        if (row < order.size() && !paired[order[row]])
+            continue;
+        if (row - runStart > best.poses)
+        {
+            best.poses = row - runStart;
+            best.firstRow = runStart;
+            best.firstTimestamp = groundTruth[order[runStart]].timestamp;
+            best.lastTimestamp = groundTruth[order[row - 1]].timestamp;
+        }
+        runStart = row + 1;
+    }
+    return best;
 }
 }  // namespace
 
@@ -72,6 +103,7 @@ AteResult computeAte(const core::Trajectory& groundTruth, const core::Trajectory
     r.groundTruthPoses = groundTruth.size();
     r.estimatedPoses = estimate.size();
     r.coverage = static_cast<double>(r.pairs) / static_cast<double>(r.groundTruthPoses);
+    r.longestGap = longestUnpairedRun(groundTruth, matches);
     return r;
 }
 }  // namespace smap::eval

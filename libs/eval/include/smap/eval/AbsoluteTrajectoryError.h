@@ -28,6 +28,16 @@ struct AtePair
     double error = 0.0;                  ///< |gt - aligned estimate|, metres
 };
 
+/// A run of consecutive ground-truth poses (in time order) with no estimate associated: where
+/// the tracker had no pose (lost) or the estimate ends early.
+struct AteGap
+{
+    size_t poses = 0;     ///< its length; 0 when every ground-truth pose was paired
+    size_t firstRow = 0;  ///< its first ground-truth pose, counted from 0 in time order
+    double firstTimestamp = 0.0;
+    double lastTimestamp = 0.0;
+};
+
 struct AteResult
 {
     ErrorStatistics translation;  ///< metres
@@ -36,6 +46,9 @@ struct AteResult
     size_t estimatedPoses = 0;
     double coverage = 0.0;  ///< pairs / ground-truth poses
     Alignment alignment;    ///< maps estimate positions into the ground-truth frame
+    /// The longest stretch without a pose: coverage says how many ground-truth poses went
+    /// unpaired, this whether they were one outage or many short ones.
+    AteGap longestGap;
     std::vector<AtePair> perPose;
 };
 
