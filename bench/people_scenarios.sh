@@ -5,7 +5,8 @@
 # /tmp/smap-eval-cache). Each is tracked without people (the same frames of the original
 # recording; for a preset its static twin, the same camera motion in the same room), with the
 # filter off, in the paper's mode, in the default mode without semantic evidence, and in the
-# default mode. Prints a Markdown table: frames with a pose, ATE RMSE against the ground truth
+# default mode. Prints a Markdown table: frames with a pose (and the longest stretch without
+# one, smap-eval ate's longest gap), ATE RMSE against the ground truth
 # (the SfM reference for 7-Scenes), whether it is within max(1.5 x, + 1 cm) of the people-free
 # run, dynamic-keypoint recall / precision (default modes; with the outline bound, the best
 # precision at recall 0.95 a decision by motion reaches, smap-eval keypoints), and the people
@@ -42,6 +43,13 @@ track() {  # input config output extra...
         --set output.snapshots=false --set output.annotated_rawlog=false "$@" >/dev/null
 }
 rmse() { "$bin/smap-eval" ate "$1" "$2" | awk '/rmse/ {printf "%.4f", $2}'; }
+posed() {  # ground truth, trajectory -> "N" poses, "N (no pose for frames A-B)" for the longest gap
+    local n
+    n="$(grep -vc '^#' "$2")"
+    "$bin/smap-eval" ate "$1" "$2" |
+        awk -v n="$n" '/longest gap/ {gsub(/,/, "", $10); g = " (no pose for frames " $10 ")"}
+                       END {printf "%s%s", n, g}'
+}
 within() { awk -v a="$1" -v b="$2" 'BEGIN {m = 1.5 * b; if (b + 0.01 > m) m = b + 0.01;
                                           print (a <= m ? "yes" : "no")}'; }
 keypoints() {  # "recall / precision (bound P)": P, smap-eval's outline bound at recall 0.95
@@ -100,7 +108,7 @@ rows() {
             gh="$(ghosts "$free" "$o" semantic_points.ply "$composite")"
             go="$(ghosts "$free" "$o" semantic_octomap.bt "$composite")"
         fi
-        echo "| $name | $frames | $run | $(grep -vc '^#' "$o/trajectory.txt") | $ate | $(within "$ate" "$freeAte") | $kp | $gh | $go |"
+        echo "| $name | $frames | $run | $(posed "$dir/groundtruth.txt" "$o/trajectory.txt") | $ate | $(within "$ate" "$freeAte") | $kp | $gh | $go |"
     done
 }
 
