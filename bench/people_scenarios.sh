@@ -42,13 +42,13 @@ track() {  # input config output extra...
     "$bin/semantic-mapper" "$input" --config "$config" --out "$o" --quiet \
         --set output.snapshots=false --set output.annotated_rawlog=false "$@" >/dev/null
 }
-rmse() { "$bin/smap-eval" ate "$1" "$2" | awk '/rmse/ {printf "%.4f", $2}'; }
-posed() {  # ground truth, trajectory -> "N" poses, "N (no pose for frames A-B)" for the longest gap
-    local n
-    n="$(grep -vc '^#' "$2")"
-    "$bin/smap-eval" ate "$1" "$2" |
-        awk -v n="$n" '/longest gap/ {gsub(/,/, "", $10); g = " (no pose for frames " $10 ")"}
-                       END {printf "%s%s", n, g}'
+ateRmse() { awk '/rmse/ {printf "%.4f", $2}'; }  # smap-eval ate's report on stdin
+rmse() { "$bin/smap-eval" ate "$1" "$2" | ateRmse; }
+# trajectory, smap-eval ate's report on stdin -> "N" poses, "N (no pose for frames A-B)" for the
+# longest gap
+atePosed() {
+    awk -v n="$(grep -vc '^#' "$1")" '/longest gap/ {gsub(/,/, "", $10); g = " (no pose for frames " $10 ")"}
+                                      END {printf "%s%s", n, g}'
 }
 within() { awk -v a="$1" -v b="$2" 'BEGIN {m = 1.5 * b; if (b + 0.01 > m) m = b + 0.01;
                                           print (a <= m ? "yes" : "no")}'; }
@@ -101,14 +101,15 @@ rows() {
                     --set semantic_evidence.enabled=false "$@" ;;
             default) track "$dir" "$config" "$o" --dynamic-debug all "$@" ;;
         esac
-        local ate kp="-" gh="-" go="-"
-        ate="$(rmse "$dir/groundtruth.txt" "$o/trajectory.txt")"
+        local report ate kp="-" gh="-" go="-"
+        report="$("$bin/smap-eval" ate "$dir/groundtruth.txt" "$o/trajectory.txt")"
+        ate="$(ateRmse <<<"$report")"
         if [ -d "$o/dynamic" ]; then
             kp="$(keypoints "$dir" "$o")"
             gh="$(ghosts "$free" "$o" semantic_points.ply "$composite")"
             go="$(ghosts "$free" "$o" semantic_octomap.bt "$composite")"
         fi
-        echo "| $name | $frames | $run | $(posed "$dir/groundtruth.txt" "$o/trajectory.txt") | $ate | $(within "$ate" "$freeAte") | $kp | $gh | $go |"
+        echo "| $name | $frames | $run | $(atePosed "$o/trajectory.txt" <<<"$report") | $ate | $(within "$ate" "$freeAte") | $kp | $gh | $go |"
     done
 }
 
