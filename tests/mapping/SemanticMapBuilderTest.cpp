@@ -105,6 +105,15 @@ size_t pointsInFront(const maps::CSemanticPointsMap& m, float xMin, float xMax)
         n += q.position.z() < 1.5f && q.position.x() >= xMin && q.position.x() < xMax ? 1 : 0;
     return n;
 }
+/// Points of m in front of the wall with z in [zMin, 1.5).
+size_t pointsBehind(const maps::CSemanticPointsMap& m, float zMin)
+{
+    size_t n = 0;
+    for (const auto& q : m.points())
+        n += q.position.z() >= zMin && q.position.z() < 1.5f ? 1 : 0;
+    return n;
+}
+
 /// Points of m on patch A, on patch B (patchesBesideAMover) and elsewhere (the wall).
 struct PatchCounts
 {
@@ -354,6 +363,37 @@ TEST(SemanticMapBuilder, APersonBackAtTheSamePlaceDoesNotConfirmWhatWasMissedOfT
     }
 }
 
+TEST(SemanticMapBuilder, AClearViewConfirmsOnlyThePlaceItSaw)
+{
+    // Keyframes 0 and 1, 20 frames apart, both see patch A (1 m away) right beside a mover,
+    // neither clear of it: a person's missed part, seen twice. Keyframe 2, 20 frames later,
+    // sees no mover and a patch at A's pixels `behind` m behind A. 3 cm behind, it saw the same
+    // surface clear, and A stays. 8 cm behind (still within the 27 voxels of 5 cm around A),
+    // it saw another surface: its clear view must not confirm A, and A goes. The see-through
+    // test is off, so only the confirmation decides.
+    for (const float behind : {0.03f, 0.08f})
+    {
+        mapping::MapBuilderParameters p;
+        p.prune_near_movers = 0.1;
+        p.see_through_margin = 0.0;
+        ASSERT_DOUBLE_EQ(p.confirm_radius, 0.05);
+        ASSERT_GT(p.confirm_clear_distance, 0.15) << "the mover is within it of A";
+        mapping::SemanticMapBuilder b(p, core::LabelSet::pascalVoc());
+        b.add(0, 0, 0.0, patchesBesideAMover(), camera(), mrpt::poses::CPose3D());
+        b.add(1, 20, 20 / 30.0, patchesBesideAMover(), camera(), mrpt::poses::CPose3D());
+        maps::BackProjector::Images clear =
+            withDepth(bareWall(), cv::Rect(32, 15, 8, 20), 1.0f + behind);
+        b.add(2, 40, 40 / 30.0, clear, camera(), mrpt::poses::CPose3D());
+        const size_t a = pointsInFront(b.pointsMap(), -0.2f, 0.05f);
+        const size_t onA = a - pointsBehind(b.pointsMap(), 1.0f + behind / 2.0f);
+        ASSERT_GT(onA, 20U);
+        b.dropUnconfirmedNearMovers();
+        const size_t onAAfter = pointsInFront(b.pointsMap(), -0.2f, 0.05f) -
+                                pointsBehind(b.pointsMap(), 1.0f + behind / 2.0f);
+        EXPECT_EQ(onAAfter, behind < 0.05f ? onA : 0U) << behind;
+    }
+}
+
 TEST(SemanticMapBuilder, WhatAPersonLeftGoesOnceTheNewestViewOfItsPlaceSeesThrough)
 {
     // Keyframes 0 and 1, 20 frames apart, both see patch A right beside the pixels the dynamic
@@ -436,7 +476,7 @@ TEST(SemanticMapBuilder, APersonBackInFrontOfAPlaceSeenThroughDoesNotBringBackWh
             b.add(0, 0, 0.0, withPerson, camera(), mrpt::poses::CPose3D());
             b.add(1, 20, 20 / 30.0, bare, camera(), mrpt::poses::CPose3D());
             for (int k = 2; k < 2 + backViews; ++k)
-                b.add(static_cast<uint64_t>(k), static_cast<uint64_t>(20 * k), 20 * k / 30.0, back,
+                b.add(static_cast<uint64_t>(k), 20U * static_cast<uint64_t>(k), 20 * k / 30.0, back,
                       camera(), mrpt::poses::CPose3D());
             const size_t a = count(b.pointsMap(), 0.99f, 1.01f);
             const size_t front = count(b.pointsMap(), 0.95f, 0.97f);

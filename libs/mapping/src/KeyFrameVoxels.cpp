@@ -30,6 +30,23 @@ void addDistinct(std::vector<uint32_t>& keyframes, uint32_t k, size_t atMost)
         std::find(keyframes.begin(), keyframes.end(), k) == keyframes.end())
         keyframes.push_back(k);
 }
+
+/// Adds p to a voxel's clear points unless one lies within `thin` of it.
+void addClear(std::vector<Eigen::Vector3f>& points, const Eigen::Vector3f& p, double thin)
+{
+    for (const auto& q : points)
+    {
+        if ((q - p).squaredNorm() <= thin * thin)
+            return;
+    }
+    points.push_back(p);
+}
+
+bool anyWithin(const std::vector<Eigen::Vector3f>& points, const Eigen::Vector3f& p, double r)
+{
+    return std::any_of(points.begin(), points.end(),
+                       [&](const Eigen::Vector3f& q) { return (q - p).squaredNorm() <= r * r; });
+}
 }  // namespace
 
 KeyFrameVoxels::KeyFrameVoxels(double edge, size_t needed, uint64_t span, bool needClear)
@@ -48,7 +65,8 @@ void KeyFrameVoxels::add(const Eigen::Vector3f& p, uint32_t keyframe, uint64_t f
     addDistinct(s.keyframes, keyframe, needed_);
     s.firstFrame = std::min(s.firstFrame, frame);
     s.lastFrame = std::max(s.lastFrame, frame);
-    s.clear = s.clear || clear;
+    if (clear)
+        addClear(s.clearPoints, p, edge_ / 4.0);
 }
 
 bool KeyFrameVoxels::confirmed(const Eigen::Vector3f& p) const
@@ -67,7 +85,7 @@ bool KeyFrameVoxels::confirmed(const Eigen::Vector3f& p) const
             addDistinct(keyframes, k, needed_);
         first = std::min(first, it->second.firstFrame);
         last = std::max(last, it->second.lastFrame);
-        clear = clear || it->second.clear;
+        clear = clear || anyWithin(it->second.clearPoints, p, edge_);
     }
     return clear && keyframes.size() >= needed_ && last >= first && last - first >= span_;
 }

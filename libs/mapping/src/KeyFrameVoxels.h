@@ -20,14 +20,17 @@ class KeyFrameVoxels
 {
 public:
     /// `edge`: the voxel size (m); `needed`: keyframes that confirm; `span`: frames they must
-    /// span at least (first to last); `needClear`: one of them must have seen the place clear.
+    /// span at least (first to last); `needClear`: one of them must have seen the place clear,
+    /// with its own point within `edge` of the point confirmed.
     KeyFrameVoxels(double edge, size_t needed, uint64_t span, bool needClear);
 
     /// Keyframe number `keyframe`, made from frame `frame`, put a point at p; `clear`: none of
     /// that keyframe's own movers was near p.
     void add(const Eigen::Vector3f& p, uint32_t keyframe, uint64_t frame, bool clear);
     /// At least `needed` distinct keyframes in the 27 voxels around p, spanning `span` frames,
-    /// and (with `needClear`) one of the points there put by a keyframe that saw it clear.
+    /// and (with `needClear`) a point within `edge` of p put by a keyframe that saw it clear:
+    /// the clear view must be of the same surface, not of a static point up to two voxels
+    /// away that confirms nothing at p (a person's missed parts seen twice stay unconfirmed).
     bool confirmed(const Eigen::Vector3f& p) const;
 
 private:
@@ -35,7 +38,9 @@ private:
     {
         std::vector<uint32_t> keyframes;  ///< distinct, at most `needed_`
         uint64_t firstFrame = UINT64_MAX, lastFrame = 0;
-        bool clear = false;  ///< some keyframe put its point here with no mover of its own near
+        /// Points put here by keyframes with no mover of their own near, thinned: none within
+        /// edge / 4 of another (a few dozen per voxel at most).
+        std::vector<Eigen::Vector3f> clearPoints;
     };
     int64_t cell(float a) const;
 

@@ -43,7 +43,7 @@ struct MapBuilderParameters : public mrpt::config::CLoadableOptions
     /// Frames the confirming keyframes must span at least (first to last): a person standing
     /// or walking slowly is at the same place in keyframes made shortly after one another.
     int confirm_span = 15;
-    /// A confirmation also needs one of the confirming keyframes to have put its point there
+    /// A confirmation also needs a keyframe to have put a point within confirm_radius of it
     /// with none of its own movers within about this distance (m; a voxel test over 27 voxels
     /// of this edge): a person who walks the same line again, or turns round, puts a part that
     /// segmentation missed at the same place in keyframes that all see them there; a static
