@@ -39,7 +39,8 @@ private:
         std::vector<uint32_t> keyframes;  ///< distinct, at most `needed_`
         uint64_t firstFrame = UINT64_MAX, lastFrame = 0;
         /// Points put here by keyframes with no mover of their own near, thinned: none within
-        /// edge / 4 of another (a few dozen per voxel at most).
+        /// edge / 4 of another (on a surface, a few dozen per voxel at most). The thinning
+        /// makes "within `edge`" exact to edge / 4.
         std::vector<Eigen::Vector3f> clearPoints;
     };
     int64_t cell(float a) const;
