@@ -65,7 +65,7 @@ void KeyFrameVoxels::add(const Eigen::Vector3f& p, uint32_t keyframe, uint64_t f
     addDistinct(s.keyframes, keyframe, needed_);
     s.firstFrame = std::min(s.firstFrame, frame);
     s.lastFrame = std::max(s.lastFrame, frame);
-    if (clear)
+    if (clear && needClear_)  // without the clear test, no query reads them
         addClear(s.clearPoints, p, edge_ / 4.0);
 }
 
