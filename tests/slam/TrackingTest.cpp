@@ -3,6 +3,9 @@
 #include <gtest/gtest.h>
 #include <mrpt/config/CConfigFileMemory.h>
 
+#include <opencv2/core.hpp>
+#include <set>
+
 #include "SyntheticSequence.h"
 #include "TestData.h"
 #include "smap/eval/AbsoluteTrajectoryError.h"
@@ -228,21 +231,24 @@ TEST(RgbdSlam, BlankStretchIsLostThenRelocalised)
     EXPECT_LT(ateRmse(seq.groundTruth, traj), 0.015);
 }
 
-// After frame 49 the camera is carried into a scene the map has never seen (another seed's
-// textures): relocalisation cannot succeed there. With re-anchoring (default: after 3 lost
-// frames) the map restarts at the predicted pose and the rest is tracked, accurately relative
-// to itself; without it every later frame is lost.
+// After frame 29 the camera is carried into a scene the map has never seen (another seed's
+// textures): relocalisation cannot succeed there. With re-anchoring (after 3 lost frames) a new
+// part of the map starts at the predicted pose and the rest is tracked, accurately relative to
+// itself; without it every later frame is lost. The new part never meets the first again, and
+// poses more frames (47 against 30): at the end it stays and the first part's frames lose
+// their pose.
 TEST(RgbdSlam, UnknownSceneIsReanchoredAfterAFewLostFrames)
 {
+    constexpr size_t kSwitch = 30;
     const auto& first = staticXyz();
     static const test::RenderedSequence other = test::renderSequence("static_xyz", 50, 7);
-    std::vector<core::RgbdFrame> frames(first.frames.begin(), first.frames.begin() + 50);
+    std::vector<core::RgbdFrame> frames(first.frames.begin(), first.frames.begin() + kSwitch);
     core::Trajectory otherTruth;
     for (size_t k = 0; k < other.frames.size(); ++k)
     {
         core::RgbdFrame f = other.frames[k];
-        f.timestamp = first.frames[49].timestamp + static_cast<double>(k + 1) / 30.0;
-        f.index = 50 + k;
+        f.timestamp = first.frames[kSwitch - 1].timestamp + static_cast<double>(k + 1) / 30.0;
+        f.index = kSwitch + k;
         frames.push_back(f);
         otherTruth.push_back({f.timestamp, other.groundTruth[k].T_world_cam});
     }
@@ -256,26 +262,101 @@ TEST(RgbdSlam, UnknownSceneIsReanchoredAfterAFewLostFrames)
         for (const auto& f : frames)
             status.push_back(slam.process(f).status);
         slam.finish();
-        for (size_t i = 1; i < 50; ++i)
+        for (size_t i = 1; i < kSwitch; ++i)
             ASSERT_EQ(status[i], slam::TrackingStatus::Ok) << i;
         if (after == 0)
         {
-            for (size_t i = 50; i < frames.size(); ++i)
+            for (size_t i = kSwitch; i < frames.size(); ++i)
                 EXPECT_EQ(status[i], slam::TrackingStatus::Lost) << i;
+            EXPECT_EQ(slam.trajectory().size(), kSwitch);
+            EXPECT_EQ(slam.mapPartStats().started, 0U);
             continue;
         }
-        for (size_t i = 50; i < 53; ++i)
+        for (size_t i = kSwitch; i < kSwitch + 3; ++i)
             EXPECT_EQ(status[i], slam::TrackingStatus::Lost) << i;
-        EXPECT_EQ(status[53], slam::TrackingStatus::Reanchored);
-        for (size_t i = 54; i < frames.size(); ++i)
+        EXPECT_EQ(status[kSwitch + 3], slam::TrackingStatus::Reanchored);
+        for (size_t i = kSwitch + 4; i < frames.size(); ++i)
             EXPECT_EQ(status[i], slam::TrackingStatus::Ok) << i;
-        core::Trajectory after53;
-        for (const auto& p : slam.trajectory())
-            if (p.timestamp >= frames[53].timestamp - 1e-6)
-                after53.push_back(p);
-        ASSERT_EQ(after53.size(), frames.size() - 53);
-        EXPECT_LT(ateRmse(otherTruth, after53), 0.01);
+        const auto parts = slam.mapPartStats();
+        EXPECT_EQ(parts.started, 1U);
+        EXPECT_EQ(parts.merged, 0U);
+        EXPECT_EQ(parts.discarded, 1U) << "the first part, with fewer frames";
+        const core::Trajectory kept = slam.trajectory();
+        ASSERT_EQ(kept.size(), frames.size() - kSwitch - 3);
+        EXPECT_GE(kept.front().timestamp, frames[kSwitch + 3].timestamp - 1e-6);
+        EXPECT_LT(ateRmse(otherTruth, kept), 0.01);
+        for (const auto& p : slam.keyFrameTrajectory())
+            EXPECT_GE(p.timestamp, frames[kSwitch + 3].timestamp - 1e-6) << "a dropped keyframe";
     }
+}
+
+namespace
+{
+/// `f` with its colours inverted where `region` is set (all of it when empty): the same
+/// geometry and corners, but ORB descriptors that match nothing of the original.
+core::RgbdFrame inverted(const core::RgbdFrame& f, const cv::Rect& region = {})
+{
+    core::RgbdFrame out = f;
+    out.colour = f.colour.clone();
+    const cv::Rect r = region.area() > 0 ? region : cv::Rect(0, 0, f.colour.cols, f.colour.rows);
+    cv::Mat roi = out.colour(r);
+    cv::bitwise_not(roi, roi);
+    return out;
+}
+}  // namespace
+
+// A part of the map that meets the first again is merged into it. Frames 50-59 are blank
+// (lost); from 60 the colours are inverted, a view no keyframe can place, so that after 3 lost
+// frames the map is re-anchored at a pose extrapolated 3 frames from frame 49 while the camera
+// moved on for 11. From 75 the right half is shown as it is: the tracker still follows the new
+// part on the left half, and the right half places the frame in the first part, which joins
+// the two. Every frame but the lost ones then has a pose in the first part's frame.
+TEST(RgbdSlam, AReanchoredPartMergesWhereItMeetsTheMapAgain)
+{
+    constexpr size_t kBlank = 50, kInverted = 60, kHalf = 75, kEnd = 100;
+    const auto& seq = staticXyz();
+    slam::TrackerParameters tp;
+    tp.reanchor_after = 3;
+    slam::RgbdSlam slam(features::OrbParameters{}, tp, deterministic());
+    std::vector<slam::TrackingResult> results;
+    for (size_t i = 0; i < kEnd; ++i)
+    {
+        core::RgbdFrame f = seq.frames[i];
+        const int w = f.colour.cols, h = f.colour.rows;
+        if (i >= kBlank && i < kInverted)
+        {
+            f.colour = cv::Mat(f.colour.size(), CV_8UC3, cv::Scalar(120, 120, 120));
+            f.depth = cv::Mat::zeros(f.depth.size(), CV_32FC1);
+        }
+        else if (i >= kInverted)
+            f = inverted(f, i < kHalf ? cv::Rect() : cv::Rect(0, 0, w / 2, h));
+        results.push_back(slam.process(f));
+    }
+    slam.finish();
+    size_t reanchored = 0;
+    for (size_t i = kInverted; i < kEnd && reanchored == 0; ++i)
+        if (results[i].status == slam::TrackingStatus::Reanchored)
+            reanchored = i;
+    ASSERT_GT(reanchored, 0U) << "never re-anchored";
+    // The map's frame is the first camera's. The check bites: the new part started well away
+    // from the truth.
+    const auto truth = [&](size_t i)
+    { return seq.groundTruth[i].T_world_cam - seq.groundTruth[0].T_world_cam; };
+    const mrpt::poses::CPose3D guess = slam::toCPose3D(results[reanchored].T_world_cam);
+    ASSERT_GT((guess - truth(reanchored)).norm(), 0.03);
+    const auto parts = slam.mapPartStats();
+    EXPECT_EQ(parts.started, 1U);
+    EXPECT_EQ(parts.merged, 1U);
+    EXPECT_EQ(parts.discarded, 0U);
+    for (size_t i = reanchored + 1; i < kEnd; ++i)
+        EXPECT_EQ(results[i].status, slam::TrackingStatus::Ok) << i;
+    const core::Trajectory traj = slam.trajectory();
+    EXPECT_EQ(traj.size(), kEnd - (reanchored - kBlank));
+    EXPECT_LT(ateRmse(seq.groundTruth, traj), 0.01);
+    // The merged part in the first part's frame: the re-anchored frame's final pose.
+    const auto poses = slam.framePoses();
+    ASSERT_TRUE(poses.count(reanchored));
+    EXPECT_LT((poses.at(reanchored) - truth(reanchored)).norm(), 0.01);
 }
 
 TEST(RgbdSlam, TexturelessStartWaitsThenInitialises)
@@ -685,6 +766,61 @@ TEST(Relocalisation, SweepReachesAKeyFrameWhoseThumbnailRanksLast)
     off.relocalisation_sweep = 0;
     for (int round = 0; round < 6; ++round)
         EXPECT_EQ(attempt(off, round), 0) << round;
+}
+
+// A re-anchored part looks for the map only among the other parts' keyframes, and says which
+// part placed the frame.
+TEST(Relocalisation, AnotherPartIsSoughtAmongTheOtherPartsOnly)
+{
+    OneKeyFrameMap m;
+    ASSERT_GT(m.points.size(), 200U);
+    constexpr size_t kLost = 8;
+    slam::TrackerParameters params;
+    slam::Frame own = m.lostFrame(kLost, {});
+    EXPECT_FALSE(slam::relocaliseInOtherPart(own, m.map, params, 0U, 0)) << "its own part";
+    m.keyframe->setPart(2U);
+    slam::Frame other = m.lostFrame(kLost, {});
+    const auto part = slam::relocaliseInOtherPart(other, m.map, params, 0U, 0);
+    ASSERT_TRUE(part.has_value());
+    EXPECT_EQ(*part, 2U);
+    EXPECT_GE(other.countMatches(), params.min_inliers_after_relocalisation);
+}
+
+// Merging moves a part rigidly into another's frame (culled keyframes follow their parents);
+// discarding culls a part's keyframes and points.
+TEST(Map, PartsMergeRigidlyAndDiscardWhole)
+{
+    OneKeyFrameMap m;
+    slam::Map& map = m.map;
+    const uint32_t part = map.newPart();
+    EXPECT_EQ(part, 1U);
+    EXPECT_EQ(map.liveParts(), (std::set<uint32_t>{0U, 1U}));
+    m.keyframe->setPart(part);
+    const Eigen::Vector3d p0 = m.points.front()->position_world;
+    Eigen::Isometry3d T_to_from = Eigen::Isometry3d::Identity();
+    T_to_from.linear() = Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitY()).toRotationMatrix();
+    T_to_from.translation() = Eigen::Vector3d(0.5, -0.2, 1.0);
+    const Eigen::Isometry3d T_cam_from = m.keyframe->T_cam_world();
+    map.mergePart(part, 0U, T_to_from);
+    EXPECT_EQ(m.keyframe->part(), 0U);
+    EXPECT_FALSE(m.keyframe->isPartOrigin());
+    EXPECT_EQ(map.liveParts(), (std::set<uint32_t>{0U}));
+    EXPECT_EQ(map.partsMerged(), 1U);
+    EXPECT_LT((m.points.front()->position_world - T_to_from * p0).norm(), 1e-12);
+    // The camera sees the point where it saw it before.
+    const Eigen::Isometry3d T_cam_to = m.keyframe->T_cam_world();
+    EXPECT_LT((T_cam_to * m.points.front()->position_world - T_cam_from * p0).norm(), 1e-12);
+    EXPECT_GT((T_cam_to.translation() - T_cam_from.translation()).norm(), 0.5);
+
+    const uint32_t second = map.newPart();
+    m.keyframe->setPart(second);
+    map.discardPart(second);
+    EXPECT_TRUE(map.isDiscarded(second));
+    EXPECT_TRUE(m.keyframe->isBad());
+    EXPECT_TRUE(map.keyframes().empty());
+    EXPECT_TRUE(map.points().empty());
+    EXPECT_EQ(map.partsDiscarded(), 1U);
+    EXPECT_EQ(map.partsStarted(), 2U);
 }
 
 // A map point hidden behind a mover (most keypoints around its projection have weight 0) is

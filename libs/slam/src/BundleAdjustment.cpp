@@ -338,11 +338,12 @@ BundleAdjustmentStats localBundleAdjustment(const std::shared_ptr<KeyFrame>& key
         std::lock_guard<std::mutex> lock(map.mutex());
         if (keyframe->isBad())
             return {};
-        // The first keyframe defines the world frame and never moves (as in ORB-SLAM).
-        pb.addKeyFrame(map, *keyframe, keyframe->id() == 0);
+        // The origin of each part (the first keyframe of the map, a re-anchor) defines its frame
+        // and never moves (as the first keyframe in ORB-SLAM).
+        pb.addKeyFrame(map, *keyframe, keyframe->isPartOrigin());
         for (KeyFrame* kf : keyframe->bestCovisibles(params.ba_max_keyframes - 1))
             if (!kf->isBad())
-                pb.addKeyFrame(map, *kf, kf->id() == 0);
+                pb.addKeyFrame(map, *kf, kf->isPartOrigin());
         pb.addPointsOf(map, pb.kfs.size());
     }
     return solveAndWriteBack(pb, map, BaScope::Local, params.ba_iterations,
@@ -357,7 +358,7 @@ BundleAdjustmentStats globalBundleAdjustment(Map& map, int iterations, int min_s
         std::lock_guard<std::mutex> lock(map.mutex());
         for (const auto& [id, kf] : map.keyframes())
             if (!kf->isBad())
-                pb.addKeyFrame(map, *kf, id == 0);
+                pb.addKeyFrame(map, *kf, kf->isPartOrigin());
         pb.addPointsOf(map, pb.kfs.size());
     }
     return solveAndWriteBack(pb, map, BaScope::Global, iterations, iterations,

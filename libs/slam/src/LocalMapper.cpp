@@ -264,10 +264,11 @@ void LocalMapper::fuseWithNeighbours(const std::shared_ptr<KeyFrame>& kf)
 void LocalMapper::cullKeyFrames(const KeyFrame& kf)
 {
     // A keyframe is redundant when most of its close points are seen by at least three other
-    // keyframes at the same or a finer scale. The first keyframe is never culled.
+    // keyframes at the same or a finer scale. The origin of a part (the first keyframe) is never
+    // culled.
     for (KeyFrame* k : kf.bestCovisibles())
     {
-        if (k->isBad() || k->id() == 0 || k == &kf)
+        if (k->isBad() || k->isPartOrigin() || k == &kf)
             continue;
         int nPoints = 0, redundant = 0;
         for (size_t i = 0; i < k->points.size(); ++i)

@@ -77,8 +77,11 @@ GraphCopy copyGraph(Map& map, KeyFrame& kf, const LoopMatch& match,
                     std::vector<PoseGraphEdge>& loopEdges)
 {
     GraphCopy g;
+    // The loop's part of the map alone: another part shares nothing with it (the rest of the
+    // map follows the newest keyframe rigidly, MapCorrection.h).
     for (const auto& [id, k] : map.keyframes())
-        g.old[id] = k->T_cam_world();
+        if (k->part() == kf.part())
+            g.old[id] = k->T_cam_world();
     g.initial = g.old;
     // The new keyframe's neighbourhood moves rigidly with it to where the loop puts it.
     const Eigen::Isometry3d T_kf_old = kf.T_cam_world();

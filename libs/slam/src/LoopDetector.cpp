@@ -96,10 +96,12 @@ std::vector<std::pair<std::shared_ptr<KeyFrame>, int>> LoopDetector::candidates(
         if (s.score < bar || static_cast<int>(out.size()) >= params_.max_candidates)
             break;
         // Places seen long enough ago, whether or not tracking has linked them to this one
-        // already (it does when the drift is small): the recent past is not a loop.
+        // already (it does when the drift is small): the recent past is not a loop. Another part
+        // of the map is joined by tracking (Map::mergePart), not by a loop.
         const auto it = map.keyframes().find(s.keyframeId);
         if (s.matches < params_.min_matches || it == map.keyframes().end() || it->second->isBad() ||
-            it->second->frameId() + static_cast<uint64_t>(params_.min_frame_gap) > kf.frameId())
+            it->second->frameId() + static_cast<uint64_t>(params_.min_frame_gap) > kf.frameId() ||
+            it->second->part() != kf.part())
             continue;
         out.emplace_back(it->second, s.matches);
     }

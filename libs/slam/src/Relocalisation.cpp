@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <opencv2/calib3d.hpp>
+#include <optional>
 #include <vector>
 
 #include "smap/features/DescriptorMatcher.h"
@@ -92,11 +93,12 @@ int tryKeyFrame(Frame& frame, const KeyFrame& kf, const TrackerParameters& param
 /// The keyframes a lost frame tries, in order (see relocaliseFrame).
 std::vector<const KeyFrame*> chooseCandidates(const Frame& frame, const Map& map,
                                               const TrackerParameters& params,
-                                              const KeyFrame* lastReference, int sweepRound)
+                                              const KeyFrame* lastReference, int sweepRound,
+                                              std::optional<uint32_t> skipPart)
 {
     std::vector<std::pair<double, const KeyFrame*>> ranked;
     for (const auto& [id, kf] : map.keyframes())
-        if (!kf->isBad())
+        if (!kf->isBad() && (!skipPart || kf->part() != *skipPart))
             ranked.emplace_back(-thumbnailSimilarity(frame.thumbnail, kf->thumbnail), kf.get());
     std::stable_sort(ranked.begin(), ranked.end(),
                      [](const auto& a, const auto& b) { return a.first < b.first; });
@@ -126,20 +128,43 @@ std::vector<const KeyFrame*> chooseCandidates(const Frame& frame, const Map& map
     }
     return candidates;
 }
+
+/// The first candidate that places the frame with enough inliers, and those inliers (else the
+/// best count and no keyframe; the frame's matches cleared).
+std::pair<int, const KeyFrame*> placeAmong(Frame& frame,
+                                           const std::vector<const KeyFrame*>& candidates,
+                                           const TrackerParameters& params)
+{
+    int best = 0;
+    for (const KeyFrame* kf : candidates)
+    {
+        const int good = tryKeyFrame(frame, *kf, params);
+        if (good >= params.min_inliers_after_relocalisation)
+            return {good, kf};
+        best = std::max(best, good);
+    }
+    frame.clearMatches();
+    return {best, nullptr};
+}
 }  // namespace
 
 int relocaliseFrame(Frame& frame, Map& map, const TrackerParameters& params,
                     const KeyFrame* lastReference, int sweepRound)
 {
-    int best = 0;
-    for (const KeyFrame* kf : chooseCandidates(frame, map, params, lastReference, sweepRound))
-    {
-        const int good = tryKeyFrame(frame, *kf, params);
-        if (good >= params.min_inliers_after_relocalisation)
-            return good;
-        best = std::max(best, good);
-    }
-    frame.clearMatches();
-    return best;
+    return placeAmong(frame,
+                      chooseCandidates(frame, map, params, lastReference, sweepRound, std::nullopt),
+                      params)
+        .first;
+}
+
+std::optional<uint32_t> relocaliseInOtherPart(Frame& frame, Map& map,
+                                              const TrackerParameters& params, uint32_t part,
+                                              int sweepRound)
+{
+    const auto [good, kf] =
+        placeAmong(frame, chooseCandidates(frame, map, params, nullptr, sweepRound, part), params);
+    if (!kf)
+        return std::nullopt;
+    return kf->part();
 }
 }  // namespace smap::slam

@@ -3,6 +3,8 @@
 #include <mrpt/math/CMatrixFixed.h>
 
 #include <chrono>
+#include <map>
+#include <set>
 
 #include "smap/features/OrbExtractor.h"
 #include "smap/slam/Map.h"
@@ -102,6 +104,7 @@ void RgbdSlam::finish()
 {
     mapper_->waitUntilIdle();
     loopCloser_->waitUntilIdle();
+    discardUnmergedParts();
     if (finished_ || mappingParams_.global_ba_iterations <= 0)
         return;
     finished_ = true;
@@ -115,6 +118,36 @@ void RgbdSlam::finish()
         "observations, %d outliers removed, %.2f s",
         globalBa_.keyframes, globalBa_.fixedKeyframes, globalBa_.weaklyTiedHeld, globalBa_.points,
         globalBa_.observations, globalBa_.outliersRemoved, globalBaSeconds_);
+}
+
+void RgbdSlam::discardUnmergedParts()
+{
+    std::lock_guard<std::mutex> lock(map_->mutex());
+    if (map_->liveParts().size() < 2)
+        return;
+    // The part that poses the most frames stays (the older one on a tie): its frame is the
+    // world's. The others never met it again, so their poses rest on a prediction.
+    std::map<uint32_t, size_t> posed;
+    for (const auto& r : tracker_->records())
+        if (hasPose(r.status) && r.reference)
+            posed[r.reference->part()]++;
+    uint32_t keep = *map_->liveParts().begin();
+    for (const uint32_t part : map_->liveParts())
+        if (posed[part] > posed[keep])
+            keep = part;
+    const std::set<uint32_t> parts = map_->liveParts();
+    for (const uint32_t part : parts)
+    {
+        if (part == keep)
+            continue;
+        MRPT_LOG_WARN_FMT(
+            "part %u of the map (%zu frames) never met part %u (%zu frames) again: "
+            "its frames have no pose",
+            part, posed[part], keep, posed[keep]);
+        map_->discardPart(part);
+    }
+    const std::vector<uint64_t> dropped = tracker_->dropDiscardedPoses();
+    discardedFrames_.insert(discardedFrames_.end(), dropped.begin(), dropped.end());
 }
 
 void RgbdSlam::forEachFramePose(
@@ -167,6 +200,12 @@ std::vector<Eigen::Vector3d> RgbdSlam::mapPointPositions() const
         if (!mp->isBad())
             out.push_back(mp->position_world);
     return out;
+}
+
+RgbdSlam::MapPartStats RgbdSlam::mapPartStats() const
+{
+    std::lock_guard<std::mutex> lock(map_->mutex());
+    return {map_->partsStarted(), map_->partsMerged(), map_->partsDiscarded()};
 }
 
 size_t RgbdSlam::numKeyFrames() const

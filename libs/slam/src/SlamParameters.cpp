@@ -42,6 +42,7 @@ core::OptionFields TrackerParameters::fields(const std::string& section)
         .add("relocalisation_candidates", relocalisation_candidates)
         .add("relocalisation_sweep", relocalisation_sweep)
         .add("reanchor_after", reanchor_after)
+        .add("reanchor_min_points", reanchor_min_points)
         .add("fallback_weight", fallback_weight)
         .add("fallback_max_jump", fallback_max_jump)
         .add("fallback_max_jump_deg", fallback_max_jump_deg)
@@ -94,6 +95,7 @@ void TrackerParameters::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
     if (reanchor_after < 0)
         throw core::InputError(
             mrpt::format("[tracking] reanchor_after = %d must be >= 0", reanchor_after));
+    requirePositive(reanchor_min_points, s, "reanchor_min_points");
     if (!(fallback_weight >= 0.0 && fallback_weight <= 1.0))
         throw core::InputError(
             mrpt::format("[tracking] fallback_weight = %g must be in [0, 1]", fallback_weight));

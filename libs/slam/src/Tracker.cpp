@@ -37,6 +37,8 @@ std::string toString(TrackingStatus s)
             return "odometry";
         case TrackingStatus::Lost:
             return "lost";
+        case TrackingStatus::Discarded:
+            return "discarded";
     }
     return "unknown";
 }
@@ -85,6 +87,7 @@ TrackingResult Tracker::track(Frame frame)
     std::shared_ptr<KeyFrame> newKf;
     {
         const auto tLock = Clock::now();
+        applyPendingMerge();
         map_.beginTrackingWait();
         std::lock_guard<std::mutex> lock(map_.mutex());
         map_.endTrackingWait();
@@ -158,7 +161,10 @@ std::shared_ptr<KeyFrame> Tracker::trackOnMap(Frame& frame, TrackingResult& resu
     }
     result.fallback = attempt.fallback;
     if (attempt.ok)
+    {
         newKf = acceptTracked(frame, attempt.relocalised, result);
+        probeOtherParts(frame);
+    }
     else if (!reanchored)
         markLost(frame, result);
     if (attempt.relocalised)
@@ -214,10 +220,10 @@ std::shared_ptr<KeyFrame> Tracker::reanchor(Frame& frame,
             T = *velocityAtLoss_ * T;
     frame.T_cam_world = T;
     frame.clearMatches();
-    if (!anchorKeyFrame(frame, 2 * params_.min_inliers_after_relocalisation))
+    if (!anchorKeyFrame(frame, params_.reanchor_min_points, true))
         return nullptr;
-    MRPT_LOG_WARN_FMT("re-anchored the map at frame %lu after %d lost frames",
-                      static_cast<unsigned long>(frame.id), framesLost_);
+    MRPT_LOG_WARN_FMT("re-anchored at frame %lu after %d lost frames: part %u of the map",
+                      static_cast<unsigned long>(frame.id), framesLost_, reference_->part());
     state_ = TrackerState::Tracking;
     framesLost_ = 0;
     velocity_.reset();
@@ -290,6 +296,20 @@ void Tracker::record(const Frame& frame, TrackingResult& result)
     records_.push_back(rec);
 }
 
+std::vector<uint64_t> Tracker::dropDiscardedPoses()
+{
+    std::vector<uint64_t> dropped;
+    for (auto& r : records_)
+    {
+        if (!hasPose(r.status) || !r.reference || !map_.isDiscarded(r.reference->part()))
+            continue;
+        r.status = TrackingStatus::Discarded;
+        r.reference.reset();
+        dropped.push_back(r.frameId);
+    }
+    return dropped;
+}
+
 std::optional<uint64_t> Tracker::poseEarlierFrameFromOdometry(const Frame& frame)
 {
     if (!frame.odometry_T_cam_earlier || frame.odometryFramesBack == 0 ||
@@ -339,7 +359,7 @@ std::optional<Eigen::Isometry3d> Tracker::odometryPose(const Frame& frame) const
 bool Tracker::initialise(Frame& frame)
 {
     frame.T_cam_world = Eigen::Isometry3d::Identity();
-    if (!anchorKeyFrame(frame, params_.init_min_points))
+    if (!anchorKeyFrame(frame, params_.init_min_points, false))
         return false;
     state_ = TrackerState::Tracking;
     lastTracked_T_cam_world_ = frame.T_cam_world;
@@ -349,19 +369,29 @@ bool Tracker::initialise(Frame& frame)
     return true;
 }
 
-bool Tracker::anchorKeyFrame(Frame& frame, int min_points)
+bool Tracker::anchorKeyFrame(Frame& frame, int min_points, bool newPart)
 {
+    // The first frame has no motion evidence yet: its usable keypoints start the map. A
+    // re-anchor happens amid what lost tracking (people filling the view): only keypoints
+    // shown static start it, as at any other keyframe.
+    const auto starts = [&](size_t i)
+    { return (newPart ? frame.canMap(i) : frame.usable(i)) && frame.features.hasDepth(i); };
     int withDepth = 0;
     for (size_t i = 0; i < frame.size(); ++i)
-        if (frame.usable(i) && frame.features.hasDepth(i))
+        if (starts(i))
             withDepth++;
     if (withDepth < min_points)
         return false;
     auto kf = map_.createKeyFrame(frame);
+    if (newPart)
+    {
+        kf->setPart(map_.newPart());
+        kf->setPartOrigin(true);
+    }
     const Eigen::Isometry3d T_world_cam = frame.T_cam_world.inverse();
     for (size_t i = 0; i < frame.size(); ++i)
     {
-        if (!frame.usable(i) || !frame.features.hasDepth(i))
+        if (!starts(i))
             continue;
         const auto& p = frame.features.undistorted[i];
         auto mp = map_.createPoint(
@@ -513,6 +543,46 @@ bool Tracker::relocalise(Frame& frame)
     return inliers >= params_.min_inliers_after_relocalisation;
 }
 
+void Tracker::probeOtherParts(const Frame& frame)
+{
+    if (map_.liveParts().size() < 2 || !reference_ || pendingMerge_)
+        return;
+    const uint32_t part = reference_->part();
+    Frame probe = frame;
+    probe.clearMatches();
+    const auto other = relocaliseInOtherPart(probe, map_, params_, part, partProbes_++);
+    if (!other)
+        return;
+    PartMerge m;
+    m.frameId = frame.id;
+    m.inliers = probe.countMatches();
+    // The frame in both frames: T_other_part = T_cam_other^-1 * T_cam_part.
+    const Eigen::Isometry3d T_other_part = probe.T_cam_world.inverse() * frame.T_cam_world;
+    m.from = std::max(part, *other);
+    m.to = std::min(part, *other);
+    m.T_to_from = m.from == part ? T_other_part : T_other_part.inverse();
+    pendingMerge_ = m;
+}
+
+void Tracker::applyPendingMerge()
+{
+    if (!pendingMerge_)
+        return;
+    const PartMerge m = *pendingMerge_;
+    pendingMerge_.reset();
+    std::lock_guard<std::mutex> still(mapper_.processingMutex());
+    std::lock_guard<std::mutex> lock(map_.mutex());
+    if (!map_.liveParts().count(m.from) || !map_.liveParts().count(m.to))
+        return;
+    map_.mergePart(m.from, m.to, m.T_to_from);
+    MRPT_LOG_WARN_FMT(
+        "frame %lu placed part %u of the map in part %u (%d inliers): merged, "
+        "moved by %.3f m / %.1f deg",
+        static_cast<unsigned long>(m.frameId), m.from, m.to, m.inliers,
+        m.T_to_from.translation().norm(),
+        Eigen::AngleAxisd(m.T_to_from.linear()).angle() * 180.0 / M_PI);
+}
+
 bool Tracker::trackFromCarriedPose(Frame& frame)
 {
     if (params_.carried_search_frames <= 0 || framesLost_ >= params_.carried_search_frames)
@@ -612,7 +682,8 @@ void Tracker::joinRevisitedKeyFrames(const Frame& frame, std::set<uint64_t>& inL
     std::vector<std::pair<double, KeyFrame*>> near;
     for (const auto& [id, kf] : map_.keyframes())
     {
-        if (kf->isBad() || inLocal.count(id) || tooOldForRevisit(frame, *kf))
+        if (kf->isBad() || inLocal.count(id) || tooOldForRevisit(frame, *kf) ||
+            (reference_ && kf->part() != reference_->part()))
             continue;
         const Eigen::Isometry3d T_world_kf = kf->T_cam_world().inverse();
         const double d = (T_world_kf.translation() - centre).norm();
@@ -705,6 +776,7 @@ bool Tracker::needNewKeyFrame(const Frame& frame) const
 std::shared_ptr<KeyFrame> Tracker::createKeyFrame(Frame& frame)
 {
     auto kf = map_.createKeyFrame(frame);
+    kf->setPart(reference_ ? reference_->part() : 0U);
     // Tracked points (outliers included: bundle adjustment decides) ...
     for (size_t i = 0; i < frame.size(); ++i)
         kf->points[i] = frame.points[i];

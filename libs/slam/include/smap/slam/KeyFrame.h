@@ -42,6 +42,16 @@ public:
     Eigen::Isometry3d T_cam_world() const { return T_cam_world_; }
     void setPose(const Eigen::Isometry3d& T_cam_world) { T_cam_world_ = T_cam_world; }
     Eigen::Vector3d centre_world() const { return T_cam_world_.inverse().translation(); }
+    /// The part of the map the keyframe belongs to: 0 for the map the run started, a new
+    /// number for each re-anchoring (Map::newPart). Keyframes of different parts share no
+    /// points until Map::mergePart joins them.
+    uint32_t part() const { return part_; }
+    void setPart(uint32_t part) { part_ = part; }
+    /// The keyframe that started its part (the first of the map, or a re-anchor): bundle
+    /// adjustment holds it still, as the frame of its part, and culling keeps it. Merged parts
+    /// lose their origin (Map::mergePart).
+    bool isPartOrigin() const { return partOrigin_; }
+    void setPartOrigin(bool origin) { partOrigin_ = origin; }
 
     /// Indices of the keypoints that carry a (not bad) map point.
     std::vector<size_t> keypointsWithPoints() const;
@@ -71,6 +81,8 @@ private:
     uint64_t frameId_;
     double timestamp_;
     Eigen::Isometry3d T_cam_world_;
+    uint32_t part_ = 0;
+    bool partOrigin_ = false;
     std::map<uint64_t, std::pair<KeyFrame*, int>> connections_;
     std::vector<KeyFrame*> ordered_;
     bool bad_ = false;

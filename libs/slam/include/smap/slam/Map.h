@@ -2,12 +2,13 @@
 // the map, so two maps (two pipelines) can live in one process.
 #pragma once
 
-#include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <atomic>
 #include <cstdint>
 #include <map>
 #include <memory>
 #include <mutex>
+#include <set>
 
 #include "smap/slam/KeyFrame.h"
 #include "smap/slam/MapPoint.h"
@@ -46,6 +47,25 @@ public:
     /// Drops bad keyframes and points from the live sets.
     void removeBad();
 
+    /// Parts of the map (KeyFrame::part): a re-anchored tracker starts a new part in the same
+    /// map, in a frame of its own (its first keyframe at the pose the tracker predicted), and
+    /// a relocalisation of one of its frames against another part joins them.
+    uint32_t newPart();
+    /// Parts holding keyframes that are neither merged nor discarded (0 always, once started).
+    const std::set<uint32_t>& liveParts() const { return liveParts_; }
+    /// Moves every keyframe (culled ones included) and point of part `from` into the frame of
+    /// part `to` and makes them part `to`. T_to_from maps a point of `from`'s frame into
+    /// `to`'s. Hold the map mutex, with local mapping held still (LocalMapper::processingMutex):
+    /// a bundle adjustment solved before would write back the old poses.
+    void mergePart(uint32_t from, uint32_t to, const Eigen::Isometry3d& T_to_from);
+    /// Culls every keyframe of `part` and the points only they observe; its frames have no pose
+    /// (isDiscarded). Hold the map mutex, with local mapping idle.
+    void discardPart(uint32_t part);
+    bool isDiscarded(uint32_t part) const { return discarded_.count(part) > 0; }
+    /// Parts started by re-anchoring, merged into another part, and discarded, so far.
+    uint32_t partsStarted() const { return nextPart_ - 1; }
+    uint32_t partsMerged() const { return merged_; }
+    uint32_t partsDiscarded() const { return static_cast<uint32_t>(discarded_.size()); }
     /// Corrections (loop closures, global bundle adjustments) applied so far: tracking
     /// re-expresses its last poses when it changes.
     uint64_t corrections() const { return corrections_; }
@@ -57,6 +77,10 @@ private:
     uint64_t nextKeyFrameId_ = 0;
     uint64_t nextPointId_ = 0;
     uint64_t corrections_ = 0;
+    uint32_t nextPart_ = 1;
+    std::set<uint32_t> liveParts_ = {0};
+    std::set<uint32_t> discarded_;
+    uint32_t merged_ = 0;
     std::map<uint64_t, std::shared_ptr<KeyFrame>> keyframes_;
     std::map<uint64_t, std::shared_ptr<KeyFrame>> all_;
     std::map<uint64_t, std::shared_ptr<MapPoint>> points_;

@@ -4,6 +4,9 @@
 // PnP-RANSAC, then pose refinement and a projection search for more.
 #pragma once
 
+#include <cstdint>
+#include <optional>
+
 #include "smap/slam/SlamParameters.h"
 
 namespace smap::slam
@@ -26,4 +29,12 @@ class Map;
 /// frame.
 int relocaliseFrame(Frame& frame, Map& map, const TrackerParameters& params,
                     const KeyFrame* lastReference = nullptr, int sweepRound = -1);
+
+/// Relocalisation among the keyframes of the map's other parts (KeyFrame::part): where a
+/// re-anchored part meets the map again. The candidates are those of relocaliseFrame without a
+/// last reference, those of `part` left out. On success (frame.T_cam_world set in the other
+/// part's frame, with its matches) returns the part the frame was placed in.
+std::optional<uint32_t> relocaliseInOtherPart(Frame& frame, Map& map,
+                                              const TrackerParameters& params, uint32_t part,
+                                              int sweepRound);
 }  // namespace smap::slam

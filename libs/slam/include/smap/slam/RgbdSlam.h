@@ -72,10 +72,23 @@ public:
     size_t numPoints() const;
     /// Map points created so far, culled and fused ones included.
     size_t numPointsCreated() const;
+    /// Parts of the map that re-anchoring started, and what became of them (Map::newPart).
+    struct MapPartStats
+    {
+        uint32_t started = 0;
+        uint32_t merged = 0;     ///< met another part again and joined it
+        uint32_t discarded = 0;  ///< dropped at finish(), with their frames' poses
+    };
+    MapPartStats mapPartStats() const;
+    /// The frames whose pose went with a discarded part (status Discarded), after finish().
+    const std::vector<uint64_t>& discardedFrames() const { return discardedFrames_; }
     LocalMapper::Stats mappingStats() const { return mapper_->stats(); }
     LoopClosingStats loopClosingStats() const { return loopCloser_->stats(); }
 
 private:
+    /// At the end of a run: the parts of the map that re-anchoring started and no frame
+    /// joined again (Map::mergePart) are dropped, all but the one that poses the most frames.
+    void discardUnmergedParts();
     /// Every frame with a pose and its final T_world_cam (through the refined, possibly culled
     /// keyframes), in frame order, under the map lock.
     void forEachFramePose(const std::function<void(const Tracker::FrameRecord&,
@@ -90,6 +103,7 @@ private:
     std::unique_ptr<Tracker> tracker_;
     uint64_t nextFrameId_ = 0;
     bool finished_ = false;
+    std::vector<uint64_t> discardedFrames_;
     BundleAdjustmentStats globalBa_;
     double globalBaSeconds_ = 0.0;
 };

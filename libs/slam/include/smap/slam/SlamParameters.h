@@ -59,14 +59,22 @@ struct TrackerParameters : public mrpt::config::CLoadableOptions
     /// keyframe in turn, however its thumbnail ranks. 0 disables.
     int relocalisation_sweep = 5;
     /// After this many lost frames in a row that relocalisation could not place, the next frame
-    /// with enough depth (2 x min_inliers_after_relocalisation usable keypoints with depth)
-    /// re-anchors the map: it becomes a keyframe at the pose predicted by the outside odometry
-    /// (Frame::odometry_T_cam_earlier) or else by the last tracked frame's velocity (at most
-    /// reanchor_after frames ahead), its depth gives new points, and tracking goes on from
-    /// there (status "reanchored"). The camera has then usually moved into a part the map
-    /// does not hold, where relocalisation cannot succeed. 0 = never (lost until relocalised,
-    /// as ORB-SLAM2; the default, see docs/tracking.md).
-    int reanchor_after = 0;
+    /// with reanchor_min_points keypoints shown static with depth re-anchors: it starts a new
+    /// part of the map (KeyFrame::part), as a keyframe at the pose predicted by the outside
+    /// odometry (Frame::odometry_T_cam_earlier) or else by the last tracked frame's velocity
+    /// (at most reanchor_after frames ahead), its depth gives new points, and tracking goes on
+    /// from there (status "reanchored"). The camera has then usually moved where the map
+    /// cannot place it. Every tracked frame of the new part is also relocalised among the
+    /// other parts' keyframes; where one is placed, the newer part moves rigidly into the
+    /// older one's frame and they become one (Map::mergePart). A part that never meets the
+    /// rest again is dropped at the end with its frames' poses, unless it poses the most
+    /// frames (RgbdSlam::finish). 0 = never (lost until relocalised, as ORB-SLAM2). The
+    /// default waits 20 frames: a part started at once begins amid what lost tracking (people
+    /// filling the view) and tracks poorly (docs/tracking.md).
+    int reanchor_after = 20;
+    /// Keypoints shown static with depth that a frame needs to re-anchor (its points start the
+    /// new part of the map).
+    int reanchor_min_points = 100;
     /// A frame that fails to track with the outside weights (e.g. the dynamic filter's) is
     /// tried once more with every weight raised to at least this value: the map points are
     /// static, so keypoints the filter flagged by mistake can still match them. The weights

@@ -32,6 +32,10 @@ enum class TrackingStatus
     Relocalised,  ///< was lost, found again on this frame
     Reanchored,   ///< was lost too long: this frame re-anchored the map at its predicted pose
     Lost,
+    /// Was tracked in a part of the map that re-anchoring started and that never met the rest
+    /// again: the part was dropped at the end, and the frame's pose with it (only ever set on a
+    /// record, after the fact).
+    Discarded,
     /// Came before the map existed; posed afterwards from the outside odometry that links it to
     /// the frame that started the map (only ever set on a record, after the fact).
     Odometry
@@ -108,6 +112,9 @@ public:
         Eigen::Isometry3d T_cam_reference = Eigen::Isometry3d::Identity();
     };
     const std::vector<FrameRecord>& records() const { return records_; }
+    /// After Map::discardPart: the frames posed in a discarded part lose their pose (status
+    /// Discarded). Returns their frame numbers. Hold the map mutex.
+    std::vector<uint64_t> dropDiscardedPoses();
 
 private:
     /// Where the tracker stands between frames (ORB-SLAM's eTrackingState); the per-frame
@@ -165,8 +172,16 @@ private:
     /// carried_min_inliers for a lost frame.
     bool trackFromCarriedPose(Frame& frame);
     /// Adds `frame` as a keyframe at its current pose with points from its depth (the first
-    /// keyframe, or a re-anchor); false when it has fewer than `min_points` usable depths.
-    bool anchorKeyFrame(Frame& frame, int min_points);
+    /// keyframe, or a re-anchor, which starts a new part of the map: Map::newPart); false when
+    /// it has fewer than `min_points` usable depths.
+    bool anchorKeyFrame(Frame& frame, int min_points, bool newPart);
+    /// While the map has other parts: relocalises a copy of the tracked frame among their
+    /// keyframes; where it is placed, the two parts are to be merged (pendingMerge_), the newer
+    /// into the older.
+    void probeOtherParts(const Frame& frame);
+    /// The merge found by probeOtherParts, with local mapping held still; tracking then follows
+    /// it as it follows a loop correction.
+    void applyPendingMerge();
     bool trackLocalMap(Frame& frame);
     void updateLocalMap(const Frame& frame);
     void collectLocalPoints(const Frame& frame);
@@ -198,6 +213,16 @@ private:
     /// odometry's, refined against the map when that frame is the last one.
     std::optional<uint64_t> poseEarlierFrameFromOdometry(const Frame& frame);
     std::shared_ptr<KeyFrame> reference_;
+    /// Two parts of the map that one frame placed in both: `from` moves into `to`'s frame.
+    struct PartMerge
+    {
+        uint32_t from = 0, to = 0;
+        Eigen::Isometry3d T_to_from = Eigen::Isometry3d::Identity();
+        uint64_t frameId = 0;
+        int inliers = 0;
+    };
+    std::optional<PartMerge> pendingMerge_;
+    int partProbes_ = 0;  ///< probes so far: the relocalisation sweep's round
     /// The map's corrections, and the reference keyframe's pose, at the last frame.
     uint64_t correctionsSeen_ = 0;
     Eigen::Isometry3d T_reference_world_seen_ = Eigen::Isometry3d::Identity();
