@@ -203,6 +203,32 @@ TEST(SemanticMapBuilder, ReanchorMovesTheMapOnlyBeyondTheTolerance)
     EXPECT_NEAR(turned.maxRotationDeg, 5.0, 1e-6);
 }
 
+// Keyframes of a part of the SLAM map that was dropped leave the maps: the rebuild holds the
+// rest only.
+TEST(SemanticMapBuilder, ReanchorDropsDiscardedKeyFrames)
+{
+    mapping::MapBuilderParameters p;
+    p.confirm_near_movers = 0;
+    p.see_through_margin = 0.0;
+    mapping::SemanticMapBuilder b(p, core::LabelSet::pascalVoc());
+    const mrpt::poses::CPose3D T0(0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+    const mrpt::poses::CPose3D T1(0.0, 0.0, 1.0, 0.0, 0.0, 0.0);
+    b.add(0, 0, 1.0, wall(), camera(), T0);
+    const size_t one = b.pointsMap().size();
+    b.add(1, 1, 2.0, wall(), camera(), T1);
+    ASSERT_EQ(b.pointsMap().size(), 2 * one);
+    const auto r = b.reanchor(
+        [](const mapping::KeyFrameContribution&) { return std::optional<mrpt::poses::CPose3D>(); },
+        [](const mapping::KeyFrameContribution& c) { return c.frameId == 1; });
+    EXPECT_EQ(r.discarded, 1U);
+    EXPECT_EQ(r.moved, 0U);
+    EXPECT_TRUE(r.rebuilt);
+    ASSERT_EQ(b.contributions().size(), 1U);
+    EXPECT_EQ(b.contributions()[0].frameId, 0U);
+    EXPECT_EQ(b.pointsMap().size(), one);
+    EXPECT_NEAR(meanZ(b.pointsMap()), 2.0, 1e-3) << "the wall seen from z = 0 only";
+}
+
 TEST(SemanticMapBuilder, PruningDropsPointsWhereLaterKeyframesSawThrough)
 {
     // Keyframe 0 sees a box 1 m in front of the wall that the dynamic mask missed (a person who

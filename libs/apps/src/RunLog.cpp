@@ -3,6 +3,7 @@
 #include <mrpt/core/format.h>
 
 #include <algorithm>
+#include <set>
 #include <string_view>
 
 #include "smap/core/Median.h"
@@ -51,6 +52,20 @@ void RunLog::add(const pipeline::FrameStats& stats, double timestamp,
         }
     }
     rows_.push_back({stats, result});
+}
+
+void RunLog::markDiscarded(const std::vector<uint64_t>& frameIds)
+{
+    const std::set<uint64_t> ids(frameIds.begin(), frameIds.end());
+    for (auto& row : rows_)
+    {
+        auto& t = row.result.tracking;
+        if (!ids.count(t.frameId) || !slam::hasPose(t.status))
+            continue;
+        t.status = slam::TrackingStatus::Discarded;
+        withPose_--;
+        discarded_++;
+    }
 }
 
 std::string RunLog::trackingDiagnosis(double minDepth, double maxDepth) const
@@ -187,6 +202,7 @@ core::JsonValue RunLog::trackingJson() const
     auto j = core::JsonValue::object();
     j.set("frames_with_pose", static_cast<uint64_t>(withPose_))
         .set("frames_lost", static_cast<uint64_t>(lost_))
+        .set("frames_discarded", static_cast<uint64_t>(discarded_))
         .set("relocalisations", static_cast<uint64_t>(relocalised_))
         .set("reanchors", static_cast<uint64_t>(reanchored_));
     uint64_t withMask = 0, raised = 0, stillMovable = 0, carried = 0;

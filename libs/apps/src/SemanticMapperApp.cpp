@@ -320,6 +320,10 @@ core::JsonValue trackingSummary(const RunLog& log, const pipeline::SemanticMappe
         .set("global_ba_outliers_removed",
              static_cast<uint64_t>(slam.globalBundleAdjustmentStats().outliersRemoved))
         .set("global_ba_seconds", slam.globalBundleAdjustmentSeconds());
+    const auto parts = slam.mapPartStats();
+    tracking.set("map_parts_started", static_cast<uint64_t>(parts.started))
+        .set("map_parts_merged", static_cast<uint64_t>(parts.merged))
+        .set("map_parts_discarded", static_cast<uint64_t>(parts.discarded));
     return tracking;
 }
 
@@ -408,6 +412,7 @@ core::JsonValue mapSummary(const detail::MapperRun& s)
         .set("map_memory_mib", static_cast<double>(s.mapBytes) / kMiB)
         .set("contributions_mib", static_cast<double>(s.contributionBytes) / kMiB)
         .set("reanchored_keyframes", static_cast<uint64_t>(s.reanchor.moved))
+        .set("discarded_keyframes", static_cast<uint64_t>(s.reanchor.discarded))
         .set("rebuilt", s.reanchor.rebuilt)
         .set("max_keyframe_correction_m", s.reanchor.maxTranslation)
         .set("max_keyframe_correction_deg", s.reanchor.maxRotationDeg)
@@ -601,6 +606,7 @@ void SemanticMapperApp::finishMapping(detail::MapperRun& s)
 {
     const auto tFinish = std::chrono::steady_clock::now();
     s.reanchor = s.mapper->finish();
+    s.log.markDiscarded(s.mapper->slam().discardedFrames());
     s.finishS = core::secondsSince(tFinish);
     MRPT_LOG_DEBUG_STREAM("time per stage:\n" << s.mapper->profiler().getStatsAsText());
     if (s.annotated)
@@ -691,6 +697,11 @@ void SemanticMapperApp::reportSummary(const detail::MapperRun& s, std::ostream& 
         << "\noutputs in " << fs::absolute(options.outputDirectory).string() << "/:\n";
     for (const auto& f : s.files)
         out << "  " << f << "\n";
+    if (s.log.discarded() > 0)
+        MRPT_LOG_WARN_FMT(
+            "%zu frames lost their pose with a part of the map that never met the "
+            "rest again (status 'discarded' in frames.csv)",
+            s.log.discarded());
     if (s.log.skipped() > 0)
         MRPT_LOG_WARN_FMT(
             "%zu of %zu frames skipped (unreadable; frames.csv and metrics.json "

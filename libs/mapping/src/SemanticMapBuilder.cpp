@@ -127,9 +127,16 @@ void SemanticMapBuilder::insert(const KeyFrameContribution& c, const std::vector
 
 SemanticMapBuilder::ReanchorResult SemanticMapBuilder::reanchor(
     const std::function<std::optional<mrpt::poses::CPose3D>(const KeyFrameContribution&)>&
-        finalPose)
+        finalPose,
+    const std::function<bool(const KeyFrameContribution&)>& discard)
 {
     ReanchorResult r;
+    if (discard)
+    {
+        const auto end = std::remove_if(contributions_.begin(), contributions_.end(), discard);
+        r.discarded = static_cast<size_t>(contributions_.end() - end);
+        contributions_.erase(end, contributions_.end());
+    }
     std::vector<mrpt::poses::CPose3D> poses;
     poses.reserve(contributions_.size());
     for (const auto& c : contributions_)
@@ -152,7 +159,7 @@ SemanticMapBuilder::ReanchorResult SemanticMapBuilder::reanchor(
     r.unconfirmed = dropped.unconfirmed;
     r.seenThrough = dropped.seenThrough;
     r.onBody = dropped.onBody;
-    if (r.moved == 0 && !keep)
+    if (r.moved == 0 && r.discarded == 0 && !keep)
         return r;
     rebuild(keep ? &*keep : nullptr);
     r.rebuilt = true;

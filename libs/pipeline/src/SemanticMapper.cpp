@@ -307,7 +307,11 @@ mapping::SemanticMapBuilder::ReanchorResult SemanticMapper::finish()
                     if (it == finalPoses.end())
                         return std::nullopt;
                     return it->second;
-                });
+                },
+                // Keyframes whose frame has no final pose: their part of the SLAM map was
+                // dropped at the end (RgbdSlam::finish).
+                [&](const mapping::KeyFrameContribution& c)
+                { return finalPoses.count(c.frameId) == 0; });
             result.pruned = b.pruneFreePoints();
         });
     return result;

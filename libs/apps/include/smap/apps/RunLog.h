@@ -32,6 +32,10 @@ public:
     const io::SkippedFrame& firstSkipped() const { return skipped_.front(); }
     size_t withPose() const { return withPose_; }
     size_t lost() const { return lost_; }
+    /// Frames whose pose went with a part of the map dropped at the end of the run
+    /// (slam::RgbdSlam::discardedFrames): their status becomes `discarded`, without a pose.
+    void markDiscarded(const std::vector<uint64_t>& frameIds);
+    size_t discarded() const { return discarded_; }
 
     /// frames.csv: the frame statistics, then status, keypoints, inliers, keyframe, timings,
     /// and a note: every frame of the input in order, a skipped one with status `skipped`, no
@@ -40,7 +44,8 @@ public:
     /// Sets "frames", "frames_skipped", "skipped" (the first 20: index, file, reason),
     /// "duration_s", "mean_valid_depth_fraction" and "camera" in `metrics`.
     void describeInput(core::JsonValue& metrics) const;
-    /// frames_with_pose, frames_lost, relocalisations, reanchors, frames_raised_weights,
+    /// frames_with_pose, frames_lost, frames_discarded, relocalisations, reanchors,
+    /// frames_raised_weights,
     /// frames_still_movable, frames_carried_pose (the tracking fallbacks), frames_with_mask and
     /// median_mask_age (semantic evidence).
     core::JsonValue trackingJson() const;
@@ -61,7 +66,7 @@ private:
     };
     std::vector<Row> rows_;
     std::vector<io::SkippedFrame> skipped_;
-    size_t withPose_ = 0, lost_ = 0, relocalised_ = 0, reanchored_ = 0;
+    size_t withPose_ = 0, lost_ = 0, relocalised_ = 0, reanchored_ = 0, discarded_ = 0;
     double firstStamp_ = 0.0, lastStamp_ = 0.0, sumValidDepth_ = 0.0;
     core::PinholeCamera camera_;
 };

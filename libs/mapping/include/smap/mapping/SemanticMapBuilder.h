@@ -51,14 +51,18 @@ public:
         /// Contribution points left out near where a keyframe saw a person's body
         /// (movable_body_radius).
         size_t onBody = 0;
+        size_t discarded = 0;  ///< contributions dropped (reanchor's `discard`)
     };
     /// `finalPose` gives each contribution's refined pose (nullopt: keep the insertion pose).
     /// The maps are rebuilt once when some keyframe moved beyond the tolerance or some point
     /// near movers is unconfirmed or seen through, or lies on a body a keyframe saw
-    /// (dropUnconfirmedNearMovers, done here at the final poses).
+    /// (dropUnconfirmedNearMovers, done here at the final poses). Contributions for which
+    /// `discard` is true (a keyframe of a part of the SLAM map that was dropped, whose pose
+    /// rests on a prediction) leave the maps first.
     ReanchorResult reanchor(
         const std::function<std::optional<mrpt::poses::CPose3D>(const KeyFrameContribution&)>&
-            finalPose);
+            finalPose,
+        const std::function<bool(const KeyFrameContribution&)>& discard = {});
 
     /// With both maps: removes the points-map points whose octomap voxel is known and free
     /// (occupancy < 0.5), all of them with prune_free_points, else those within
