@@ -69,9 +69,9 @@ struct TrackerParameters : public mrpt::config::CLoadableOptions
     /// older one's frame and they become one (Map::mergePart). A part that never meets the
     /// rest again is dropped at the end with its frames' poses, unless it poses the most
     /// frames (RgbdSlam::finish). 0 = never (lost until relocalised, as ORB-SLAM2). The
-    /// default waits 20 frames: a part started at once begins amid what lost tracking (people
-    /// filling the view) and tracks poorly (docs/tracking.md).
-    int reanchor_after = 20;
+    /// default waits 30 frames (a second at 30 frames/s): a part started at once begins amid
+    /// what lost tracking (people filling the view) and tracks poorly (docs/tracking.md).
+    int reanchor_after = 30;
     /// Keypoints shown static with depth that a frame needs to re-anchor (its points start the
     /// new part of the map).
     int reanchor_min_points = 100;
