@@ -104,6 +104,7 @@ void RgbdSlam::finish()
 {
     mapper_->waitUntilIdle();
     loopCloser_->waitUntilIdle();
+    tracker_->applyPendingMerge();
     discardUnmergedParts();
     if (finished_ || mappingParams_.global_ba_iterations <= 0)
         return;

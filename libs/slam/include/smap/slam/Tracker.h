@@ -112,6 +112,10 @@ public:
         Eigen::Isometry3d T_cam_reference = Eigen::Isometry3d::Identity();
     };
     const std::vector<FrameRecord>& records() const { return records_; }
+    /// The merge of two parts of the map that the last frame found (probeOtherParts), with
+    /// local mapping held still; tracking then follows it as it follows a loop correction.
+    /// Each frame applies it first; finish() applies the last frame's. Takes the map mutex.
+    void applyPendingMerge();
     /// After Map::discardPart: the frames posed in a discarded part lose their pose (status
     /// Discarded). Returns their frame numbers. Hold the map mutex.
     std::vector<uint64_t> dropDiscardedPoses();
@@ -179,9 +183,6 @@ private:
     /// keyframes; where it is placed, the two parts are to be merged (pendingMerge_), the newer
     /// into the older.
     void probeOtherParts(const Frame& frame);
-    /// The merge found by probeOtherParts, with local mapping held still; tracking then follows
-    /// it as it follows a loop correction.
-    void applyPendingMerge();
     bool trackLocalMap(Frame& frame);
     void updateLocalMap(const Frame& frame);
     void collectLocalPoints(const Frame& frame);
