@@ -170,6 +170,87 @@ TEST(EvalApp, KeypointsSplitsTheOutlineBandBySide)
     }
 }
 
+TEST(EvalApp, KeypointsScoresWhatASegmentationWouldDecide)
+{
+    test::TempDir dir;
+    // Columns 0-4 of a 20 x 20 image are a person (the 3 px band: columns 2-4 on the person,
+    // 5-7 beside it); the segmentation's person (VOC id 15) reaches one column too far, to 5.
+    writePersonMasks(dir, 20, {"000001"});
+    std::filesystem::create_directories(dir / "labels");
+    cv::Mat labels(20, 20, CV_8UC1, cv::Scalar(0));
+    labels.colRange(0, 6).setTo(15);
+    ASSERT_TRUE(cv::imwrite(dir / "labels/000001.png", labels));
+    writeFile(dir / "debug/000001.csv",
+              "u,v,depth_m,residual_px,patch_error,flow,depth_test,region,isolated,was_dynamic,"
+              "semantic,dynamic\n"
+              "3,1,1,9,1,1,0,0,0,0,0,1\n"       // band, on the person: table yes, labels yes
+              "4,5,0,0.5,1,0,0,0,0,0,0,0\n"     // band, on the person: table no, labels yes
+              "1,9,1,9,1,1,0,0,0,0,0,1\n"       // on the person off the band: both yes
+              "6,2,0,9,1,1,0,0,0,0,0,1\n"       // band, beside: table yes, labels no
+              "7,7,1,0.5,1,0,0,0,0,0,0,0\n"     // band, beside: both no
+              "7,12,1,0.5,1,0,0,0,0,0,0,0\n"    // band, beside: both no
+              "8,4,1,9,1,1,0,0,0,0,0,1\n"       // beside off the band: table yes, labels no
+              "5,15,1,0.5,1,0,0,0,0,0,0,0\n");  // band, beside: table no, labels yes
+    apps::EvalApp app;
+    std::ostringstream out;
+    ASSERT_EQ(app.run({"keypoints", dir / "masks", dir / "debug", "--said-by", dir / "labels",
+                       "--json", dir / "k.json"},
+                      out),
+              0);
+    const std::string text = out.str();
+    const size_t inBand = text.find("within 3 px of a mask edge by the label images");
+    ASSERT_NE(inBand, std::string::npos) << text;
+    // By the labels alone: every person keypoint found, (5, 15) the one false positive, 1 px
+    // from the person, decided by neither flow nor depth nor region.
+    EXPECT_LT(text.find("recall 1.0000  precision 0.7500  (tp 3 fp 1 fn 0 tn 4)"), inBand) << text;
+    EXPECT_LT(text.find("<= 1.5 px 1, 1.5-3 px 0, 3-10 px 0, 10-50 px 0, farther 0"), inBand)
+        << text;
+    EXPECT_LT(text.find("other 1"), inBand) << text;
+    EXPECT_LT(text.find("said dynamic 100.0 % of 2 keypoints on a mask, 25.0 % of 4 beside"),
+              inBand)
+        << text;
+    // The table off the band, the labels in it: (8, 4) is the table's false positive.
+    EXPECT_NE(text.find("recall 1.0000  precision 0.6000  (tp 3 fp 2 fn 0 tn 3)", inBand),
+              std::string::npos)
+        << text;
+    const std::string json = test::readTextFile(dir / "k.json");
+    EXPECT_NE(json.find("\"labels\""), std::string::npos) << json;
+    EXPECT_NE(json.find("\"labels_in_band\""), std::string::npos) << json;
+
+    // Another class finds nothing; the table's own decisions are unchanged without --said-by.
+    std::ostringstream chair;
+    ASSERT_EQ(app.run({"keypoints", dir / "masks", dir / "debug", "--said-by", dir / "labels",
+                       "--classes", "chair"},
+                      chair),
+              0);
+    EXPECT_NE(chair.str().find("recall 0.0000  precision 1.0000  (tp 0 fp 0 fn 3 tn 5)"),
+              std::string::npos)
+        << chair.str();
+    std::ostringstream table;
+    ASSERT_EQ(app.run({"keypoints", dir / "masks", dir / "debug"}, table), 0);
+    EXPECT_NE(table.str().find("(tp 2 fp 2 fn 1 tn 3)"), std::string::npos) << table.str();
+
+    // --classes without --said-by, --said-by elsewhere, a missing or misfit label image.
+    EXPECT_THROW(app.run({"keypoints", dir / "masks", dir / "debug", "--classes", "person"}, out),
+                 core::InputError);
+    EXPECT_THROW(app.run({"ate", dir / "a.txt", dir / "b.txt", "--said-by", dir / "labels"}, out),
+                 core::InputError);
+    ASSERT_TRUE(cv::imwrite(dir / "labels/000001.png", cv::Mat(10, 20, CV_8UC1, cv::Scalar(15))));
+    EXPECT_THROW(
+        app.run({"keypoints", dir / "masks", dir / "debug", "--said-by", dir / "labels"}, out),
+        core::InputError);
+    std::filesystem::remove(dir / "labels/000001.png");
+    try
+    {
+        app.run({"keypoints", dir / "masks", dir / "debug", "--said-by", dir / "labels"}, out);
+        FAIL() << "expected an InputError";
+    }
+    catch (const core::InputError& e)
+    {
+        EXPECT_NE(std::string(e.what()).find("no label image"), std::string::npos) << e.what();
+    }
+}
+
 TEST(EvalApp, KeypointsScoresDecisionsAgainstMasks)
 {
     test::TempDir dir;

@@ -61,43 +61,115 @@ void printFalsePositives(const eval::KeypointDetectionScore& s, std::ostream& ou
         s.bestPrecisionAtRecall(eval::KeypointDetectionScore::kTargetRecall), s.maskOffBand);
 }
 
-/// smap-eval keypoints: every DEBUG_DIR/*.csv against MASK_DIR/<same stem>.png.
-int scoreKeypoints(const std::string& maskDir, const std::string& debugDir, int edgeMargin,
-                   const std::optional<std::string>& json, std::ostream& out)
+/// The evidence tables of DEBUG_DIR, each with the ground-truth mask of its stem.
+std::vector<std::pair<std::filesystem::path, std::filesystem::path>> keypointTables(
+    const std::string& maskDir, const std::string& debugDir)
 {
-    if (edgeMargin < 0)
-        throw core::InputError(mrpt::format("--edge-margin %d must be >= 0", edgeMargin));
     namespace fs = std::filesystem;
     if (!fs::is_directory(maskDir) || !fs::is_directory(debugDir))
         throw core::InputError(
             mrpt::format("'%s' and '%s' must both be folders", maskDir.c_str(), debugDir.c_str()));
-    std::vector<fs::path> tables;
+    std::vector<std::pair<fs::path, fs::path>> tables;
     for (const auto& e : fs::directory_iterator(debugDir))
         if (e.path().extension() == ".csv")
-            tables.push_back(e.path());
+            tables.emplace_back(e.path(), fs::path(maskDir) / (e.path().stem().string() + ".png"));
     std::sort(tables.begin(), tables.end());
     if (tables.empty())
         throw core::InputError("'" + debugDir +
                                "' has no keypoint tables (run semantic-mapper --dynamic-debug)");
-    eval::KeypointDetectionScore total;
-    for (const auto& t : tables)
-    {
-        const fs::path mask = fs::path(maskDir) / (t.stem().string() + ".png");
+    for (const auto& [table, mask] : tables)
         if (!fs::exists(mask))
             throw core::InputError(mrpt::format("'%s' has no ground-truth mask '%s'",
-                                                t.string().c_str(), mask.string().c_str()));
-        total += eval::scoreKeypointFrame(t.string(), mask.string(), edgeMargin);
+                                                table.string().c_str(), mask.string().c_str()));
+    return tables;
+}
+
+/// Every table scored with `o`; a label image (o.decision not Table) is LABEL_DIR/<stem>.png.
+eval::KeypointDetectionScore scoreTables(
+    const std::vector<std::pair<std::filesystem::path, std::filesystem::path>>& tables,
+    eval::KeypointScoreOptions o, const std::string& labelDir)
+{
+    eval::KeypointDetectionScore total;
+    for (const auto& [table, mask] : tables)
+    {
+        if (o.decision != eval::KeypointDecision::Table)
+        {
+            o.labelPng = (std::filesystem::path(labelDir) / (table.stem().string() + ".png"));
+            if (!std::filesystem::exists(o.labelPng))
+                throw core::InputError(mrpt::format("'%s' has no label image '%s'",
+                                                    table.string().c_str(), o.labelPng.c_str()));
+        }
+        total += eval::scoreKeypointFrame(table.string(), mask.string(), o);
     }
+    return total;
+}
+
+void printKeypointScore(const eval::KeypointDetectionScore& s, int edgeMargin, std::ostream& out)
+{
     out << mrpt::format("frames %zu  recall %.4f  precision %.4f  (tp %zu fp %zu fn %zu tn %zu)",
-                        total.frames, total.recall(), total.precision(), total.truePositives,
-                        total.falsePositives, total.falseNegatives, total.trueNegatives);
+                        s.frames, s.recall(), s.precision(), s.truePositives, s.falsePositives,
+                        s.falseNegatives, s.trueNegatives);
     if (edgeMargin > 0)
-        out << mrpt::format("  left out within %d px of a mask edge: %zu", edgeMargin,
-                            total.nearEdge);
+        out << mrpt::format("  left out within %d px of a mask edge: %zu", edgeMargin, s.nearEdge);
     out << "\n";
-    printFalsePositives(total, out);
+    printFalsePositives(s, out);
+}
+
+/// The label ids --classes names (default: person) in the --labels set (default PASCAL VOC).
+std::vector<int> saidLabelIds(const CommandLine& cl)
+{
+    const core::LabelSet labels = cl.has("labels") ? core::LabelSet::loadCsv(*cl.value("labels"))
+                                                   : core::LabelSet::pascalVoc();
+    std::vector<int> ids;
+    std::stringstream names(cl.value("classes").value_or("person"));
+    for (std::string n; std::getline(names, n, ',');)
+        if (!n.empty())
+            ids.push_back(labels.idOf(n));
+    if (ids.empty())
+        throw core::InputError("--classes names no class");
+    return ids;
+}
+
+/// smap-eval keypoints: every DEBUG_DIR/*.csv against MASK_DIR/<same stem>.png, decided by the
+/// tables or, with --said-by LABEL_DIR, by the label images there: alone, then within the
+/// outline band only.
+int scoreKeypoints(const std::string& maskDir, const std::string& debugDir, const CommandLine& cl,
+                   std::ostream& out)
+{
+    eval::KeypointScoreOptions o;
+    o.edgeMargin = static_cast<int>(cl.integer("edge-margin", 0));
+    if (o.edgeMargin < 0)
+        throw core::InputError(mrpt::format("--edge-margin %d must be >= 0", o.edgeMargin));
+    const auto tables = keypointTables(maskDir, debugDir);
+    const auto json = cl.value("json");
+    const auto labelDir = cl.value("said-by");
+    if (!labelDir)
+    {
+        const auto total = scoreTables(tables, o, "");
+        printKeypointScore(total, o.edgeMargin, out);
+        if (json)
+            writeJson(*json, total.toJson());
+        return kExitOk;
+    }
+    if (!std::filesystem::is_directory(*labelDir))
+        throw core::InputError("--said-by '" + *labelDir + "' is not a folder");
+    o.saidLabels = saidLabelIds(cl);
+    o.decision = eval::KeypointDecision::Labels;
+    const auto byLabels = scoreTables(tables, o, *labelDir);
+    out << "decided by the label images of " << *labelDir << ":\n";
+    printKeypointScore(byLabels, o.edgeMargin, out);
+    o.decision = eval::KeypointDecision::LabelsInBand;
+    const auto inBand = scoreTables(tables, o, *labelDir);
+    out << mrpt::format(
+        "decided by the tables, and within %d px of a mask edge by the label images:\n",
+        eval::KeypointDetectionScore::kOutlineBandPx);
+    printKeypointScore(inBand, o.edgeMargin, out);
     if (json)
-        writeJson(*json, total.toJson());
+    {
+        auto j = core::JsonValue::object();
+        j.set("labels", byLabels.toJson()).set("labels_in_band", inBand.toJson());
+        writeJson(*json, j);
+    }
     return kExitOk;
 }
 
@@ -161,6 +233,25 @@ int scoreSegmentation(const std::string& gtDir, const std::string& predDir, cons
     return kExitOk;
 }
 
+/// Throws core::InputError for an option the command `verb` does not take.
+void checkOptionsApply(const std::string& verb, const CommandLine& cl)
+{
+    const bool saidBy = verb == "keypoints" && cl.has("said-by");
+    if (verb != "segmentation")
+    {
+        for (const char* o : {"void", "min-area", "iou-threshold", "band"})
+            if (cl.has(o))
+                throw core::InputError(std::string("--") + o + " applies to 'segmentation' only");
+        for (const char* o : {"classes", "labels"})
+            if (cl.has(o) && !saidBy)
+                throw core::InputError(std::string("--") + o +
+                                       " applies to 'segmentation' and 'keypoints --said-by' only");
+    }
+    for (const char* o : {"edge-margin", "said-by"})
+        if (verb != "keypoints" && cl.has(o))
+            throw core::InputError(std::string("--") + o + " applies to 'keypoints' only");
+}
+
 int parseAxis(char c)
 {
     if (c < 'x' || c > 'z')
@@ -177,6 +268,7 @@ std::string EvalApp::usage()
            "  smap-eval rpe GT EST [--delta D] [--delta-unit s|frames] [--json FILE] [--max-dt S]\n"
            "                       [--offset S]\n"
            "  smap-eval keypoints MASK_DIR DEBUG_DIR [--edge-margin PX] [--json FILE]\n"
+           "                       [--said-by LABEL_DIR [--classes a,b] [--labels CSV]]\n"
            "  smap-eval segmentation GT_DIR PRED_DIR [--classes a,b] [--void ID|none]\n"
            "                       [--min-area F] [--iou-threshold T] [--band PX] [--labels CSV]\n"
            "                       [--json FILE]\n"
@@ -188,7 +280,10 @@ std::string EvalApp::usage()
            "  flip for a corner on an outline. Then where the false positives are: by distance\n"
            "  from the nearest mask pixel and by the evidence that decided them, and the\n"
            "  precision if only the outline corners within 3 px of a mask were false, and the\n"
-           "  share said dynamic on either side of the outline (within 3 px).\n"
+           "  share said dynamic on either side of the outline (within 3 px). --said-by LABEL_DIR\n"
+           "  scores instead what a segmentation would decide (LABEL_DIR/NNNNNN.png, 8-bit class\n"
+           "  ids: dynamic where it holds one of --classes, default person), then the tables'\n"
+           "  decisions with the outline band's taken from the segmentation.\n"
            "segmentation: the paper's Table III per-class frame scores (TP/FN/FP/TN, FPR, FNR,\n"
            "  Re, Pr, PWC; correctly segmented = IoU >= --iou-threshold, default 0.5), pixel IoU\n"
            "  and IoU within --band px (default 5) of true class edges, for every PRED_DIR/*.png\n"
@@ -219,7 +314,7 @@ int EvalApp::run(const std::vector<std::string>& args, std::ostream& out)
     cl.option("json").option("plot").option("axes").option("max-dt").option("offset");
     cl.option("delta").option("delta-unit").flag("scale").flag("help");
     cl.option("classes").option("void").option("min-area").option("iou-threshold").option("band");
-    cl.option("labels").option("edge-margin");
+    cl.option("labels").option("edge-margin").option("said-by");
     cl.parse(args);
     if (cl.has("help"))
     {
@@ -233,15 +328,9 @@ int EvalApp::run(const std::vector<std::string>& args, std::ostream& out)
             "expected 'smap-eval ate GT EST', 'smap-eval rpe GT EST', "
             "'smap-eval keypoints MASK_DIR DEBUG_DIR' or 'smap-eval segmentation GT_DIR "
             "PRED_DIR' (see --help)");
-    if (pos[0] != "segmentation")
-        for (const char* o : {"classes", "void", "min-area", "iou-threshold", "band", "labels"})
-            if (cl.has(o))
-                throw core::InputError(std::string("--") + o + " applies to 'segmentation' only");
-    if (pos[0] != "keypoints" && cl.has("edge-margin"))
-        throw core::InputError("--edge-margin applies to 'keypoints' only");
+    checkOptionsApply(pos[0], cl);
     if (pos[0] == "keypoints")
-        return scoreKeypoints(pos[1], pos[2], static_cast<int>(cl.integer("edge-margin", 0)),
-                              cl.value("json"), out);
+        return scoreKeypoints(pos[1], pos[2], cl, out);
     if (pos[0] == "segmentation")
         return scoreSegmentation(pos[1], pos[2], cl, out);
     const auto gt = io::readTumTrajectory(pos[1]);

@@ -80,8 +80,8 @@ double KeypointDetectionScore::bestPrecisionAtRecall(double recall) const
     if (needed <= 0.0 || onBand == 0.0)
         return 1.0;
     const double rate = std::min(1.0, needed / onBand);
-    const double truePositives = offBand + rate * onBand;
-    return truePositives / (truePositives + rate * besideBand);
+    const double said = offBand + rate * onBand;
+    return said / (said + rate * besideBand);
 }
 
 core::JsonValue KeypointDetectionScore::toJson() const
@@ -183,13 +183,96 @@ void countFalsePositive(KeypointDetectionScore& score, const cv::Mat& distance, 
     score.falsePositivesByDistance[band]++;
     score.falsePositivesByEvidence[static_cast<size_t>(evidence)]++;
 }
+/// One keypoint of an evidence table: its pixel, the table's decision and why.
+struct TableRow
+{
+    int x = 0, y = 0;
+    bool said = false;
+    Evidence evidence = Evidence::Other;
+};
+
+TableRow parseRow(const std::string& line, size_t row, const EvidenceColumns& columns,
+                  const std::string& evidence_csv, const cv::Mat& mask, const std::string& mask_png)
+{
+    std::vector<std::string> cells;
+    std::stringstream ss(line);
+    for (std::string c; std::getline(ss, c, ',');)
+        cells.push_back(c);
+    char* end = nullptr;
+    const double u = cells.size() >= 3 ? std::strtod(cells[0].c_str(), &end) : -1.0;
+    const double v = cells.size() >= 3 ? std::strtod(cells[1].c_str(), &end) : -1.0;
+    const long x = std::lround(u), y = std::lround(v);
+    if (cells.size() < 3 || x < 0 || y < 0 || x >= mask.cols || y >= mask.rows ||
+        (cells.back() != "0" && cells.back() != "1"))
+        throw core::InputError(mrpt::format(
+            "'%s' line %zu: '%s' is not a keypoint inside the %dx%d mask '%s'",
+            evidence_csv.c_str(), row, line.c_str(), mask.cols, mask.rows, mask_png.c_str()));
+    return {static_cast<int>(x), static_cast<int>(y), cells.back() == "1", columns.of(cells)};
+}
+
+cv::Mat readEightBit(const std::string& png, const char* what)
+{
+    cv::Mat image = cv::imread(png, cv::IMREAD_UNCHANGED);
+    if (image.empty() || image.type() != CV_8UC1)
+        throw core::InputError(
+            mrpt::format("'%s' is not an 8-bit single-channel %s", png.c_str(), what));
+    return image;
+}
+
+/// The pixels where a label image says dynamic (one of `said`), for decisions by labels.
+cv::Mat saidByLabels(const KeypointScoreOptions& o, const cv::Mat& mask,
+                     const std::string& mask_png)
+{
+    if (o.decision == KeypointDecision::Table)
+        return {};
+    const cv::Mat labels = readEightBit(o.labelPng, "label image");
+    if (labels.size() != mask.size())
+        throw core::InputError(mrpt::format("label image '%s' is %dx%d but the mask '%s' is %dx%d",
+                                            o.labelPng.c_str(), labels.cols, labels.rows,
+                                            mask_png.c_str(), mask.cols, mask.rows));
+    cv::Mat said(labels.size(), CV_8UC1, cv::Scalar(0));
+    for (const int id : o.saidLabels)
+        said.setTo(255, labels == id);
+    return said;
+}
+
+/// Adds one keypoint's outcome: the outline band's sides, the edge margin, the score and
+/// where its false positive lies.
+void scoreKeypoint(KeypointDetectionScore& score, const TableRow& k, bool truth, bool inBand,
+                   bool nearEdge, const cv::Mat& mask, cv::Mat& distance)
+{
+    if (inBand)
+    {
+        auto& side = truth ? score.bandOnMask : score.bandBesideMask;
+        side.keypoints++;
+        side.said += k.said ? 1 : 0;
+    }
+    else if (truth)
+    {
+        score.maskOffBand++;
+    }
+    if (nearEdge)
+    {
+        score.nearEdge++;
+        return;
+    }
+    score.add(truth, k.said);
+    if (truth || !k.said)
+        return;
+    // Distance (px) of each pixel from the nearest mask pixel (0 on the mask), computed at the
+    // frame's first false positive.
+    if (distance.empty())
+        cv::distanceTransform(mask == 0, distance, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+    countFalsePositive(score, distance, k.x, k.y, k.evidence);
+}
 }  // namespace
 
 KeypointDetectionScore scoreKeypointFrame(const std::string& evidence_csv,
-                                          const std::string& mask_png, int edge_margin)
+                                          const std::string& mask_png,
+                                          const KeypointScoreOptions& options)
 {
-    if (edge_margin < 0)
-        throw core::InputError(mrpt::format("edge margin %d must be >= 0", edge_margin));
+    if (options.edgeMargin < 0)
+        throw core::InputError(mrpt::format("edge margin %d must be >= 0", options.edgeMargin));
     std::ifstream in(evidence_csv);
     if (!in)
         throw core::InputError("cannot read keypoint evidence '" + evidence_csv + "'");
@@ -200,64 +283,38 @@ KeypointDetectionScore scoreKeypointFrame(const std::string& evidence_csv,
     if (line.rfind("u,v,", 0) != 0)
         throw core::InputError(mrpt::format("'%s': first line '%s' is not the evidence header",
                                             evidence_csv.c_str(), line.c_str()));
-    const cv::Mat mask = cv::imread(mask_png, cv::IMREAD_UNCHANGED);
-    if (mask.empty() || mask.type() != CV_8UC1)
-        throw core::InputError("'" + mask_png + "' is not an 8-bit single-channel mask");
+    const cv::Mat mask = readEightBit(mask_png, "mask");
     const cv::Mat band = nearMaskEdge(mask, KeypointDetectionScore::kOutlineBandPx);
     cv::Mat nearEdge;
-    if (edge_margin > 0)
-        nearEdge = edge_margin == KeypointDetectionScore::kOutlineBandPx
+    if (options.edgeMargin > 0)
+        nearEdge = options.edgeMargin == KeypointDetectionScore::kOutlineBandPx
                        ? band
-                       : nearMaskEdge(mask, edge_margin);
+                       : nearMaskEdge(mask, options.edgeMargin);
+    const cv::Mat saidByLabel = saidByLabels(options, mask, mask_png);
     const EvidenceColumns columns(line);
-    // Distance (px) of each pixel from the nearest mask pixel (0 on the mask), computed at the
-    // frame's first false positive.
     cv::Mat distance;
     score.frames = 1;
-    size_t row = 1;
-    while (std::getline(in, line))
+    for (size_t row = 2; std::getline(in, line); ++row)
     {
-        row++;
-        std::vector<std::string> cells;
-        std::stringstream ss(line);
-        std::string c;
-        while (std::getline(ss, c, ','))
-            cells.push_back(c);
-        char* end = nullptr;
-        const double u = cells.size() >= 3 ? std::strtod(cells[0].c_str(), &end) : -1.0;
-        const double v = cells.size() >= 3 ? std::strtod(cells[1].c_str(), &end) : -1.0;
-        const long x = std::lround(u), y = std::lround(v);
-        if (cells.size() < 3 || x < 0 || y < 0 || x >= mask.cols || y >= mask.rows ||
-            (cells.back() != "0" && cells.back() != "1"))
-            throw core::InputError(mrpt::format(
-                "'%s' line %zu: '%s' is not a keypoint inside the %dx%d mask '%s'",
-                evidence_csv.c_str(), row, line.c_str(), mask.cols, mask.rows, mask_png.c_str()));
-        const int px = static_cast<int>(x), py = static_cast<int>(y);
-        const bool said = cells.back() == "1";
-        const bool truth = mask.at<uint8_t>(py, px) != 0;
-        if (band.at<uint8_t>(py, px))
+        TableRow k = parseRow(line, row, columns, evidence_csv, mask, mask_png);
+        const bool inBand = band.at<uint8_t>(k.y, k.x) != 0;
+        if (options.decision == KeypointDecision::Labels ||
+            (options.decision == KeypointDecision::LabelsInBand && inBand))
         {
-            auto& side = truth ? score.bandOnMask : score.bandBesideMask;
-            side.keypoints++;
-            side.said += said ? 1 : 0;
+            k.said = saidByLabel.at<uint8_t>(k.y, k.x) != 0;
+            k.evidence = Evidence::Other;
         }
-        else if (truth)
-        {
-            score.maskOffBand++;
-        }
-        if (!nearEdge.empty() && nearEdge.at<uint8_t>(py, px))
-        {
-            score.nearEdge++;
-            continue;
-        }
-        score.add(truth, said);
-        if (!truth && said)
-        {
-            if (distance.empty())
-                cv::distanceTransform(mask == 0, distance, cv::DIST_L2, cv::DIST_MASK_PRECISE);
-            countFalsePositive(score, distance, px, py, columns.of(cells));
-        }
+        scoreKeypoint(score, k, mask.at<uint8_t>(k.y, k.x) != 0, inBand,
+                      !nearEdge.empty() && nearEdge.at<uint8_t>(k.y, k.x) != 0, mask, distance);
     }
     return score;
+}
+
+KeypointDetectionScore scoreKeypointFrame(const std::string& evidence_csv,
+                                          const std::string& mask_png, int edge_margin)
+{
+    KeypointScoreOptions o;
+    o.edgeMargin = edge_margin;
+    return scoreKeypointFrame(evidence_csv, mask_png, o);
 }
 }  // namespace smap::eval

@@ -7,6 +7,7 @@
 #include <array>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "smap/core/JsonWriter.h"
 
@@ -68,15 +69,37 @@ struct KeypointDetectionScore
     core::JsonValue toJson() const;
 };
 
+/// Whose decisions a keypoint score takes.
+enum class KeypointDecision : uint8_t
+{
+    Table,         ///< the evidence table's `dynamic` column
+    Labels,        ///< a label image (a segmentation): dynamic where it holds a said label
+    LabelsInBand,  ///< the label image within the outline band, the table everywhere else
+};
+
+struct KeypointScoreOptions
+{
+    /// > 0 leaves out (counts in nearEdge) the keypoints whose (2 edgeMargin + 1) square around
+    /// their pixel holds both mask and non-mask pixels; 0 scores every keypoint.
+    int edgeMargin = 0;
+    KeypointDecision decision = KeypointDecision::Table;
+    /// For Labels and LabelsInBand: 8-bit class ids of the mask's size (smap-segment's output),
+    /// and the ids said dynamic there.
+    std::string labelPng;
+    std::vector<int> saidLabels;
+};
+
 /// Scores one frame: `evidence_csv` is the filter's per-keypoint table (semantic-mapper
 /// --dynamic-debug: columns u, v first, dynamic last), `mask_png` the ground-truth mask (8-bit,
 /// same size as the image). A table marked "# not evaluated" scores nothing (frames = 0).
-/// `edge_margin` > 0 leaves out (counts in nearEdge) the keypoints whose (2 edge_margin + 1)
-/// square around their pixel holds both mask and non-mask pixels; 0 scores every keypoint.
 /// The outline band (kOutlineBandPx) is counted whatever the margin.
 /// False positives are broken down by distance and by the table's evidence columns (flow,
-/// depth_test, region, semantic) where it has them.
+/// depth_test, region, semantic) where it has them; a label image's decisions count as other.
 /// Throws core::InputError naming the file on unreadable or malformed input.
+KeypointDetectionScore scoreKeypointFrame(const std::string& evidence_csv,
+                                          const std::string& mask_png,
+                                          const KeypointScoreOptions& options);
+/// The table's own decisions, every keypoint scored or those off `edge_margin` (see above).
 KeypointDetectionScore scoreKeypointFrame(const std::string& evidence_csv,
                                           const std::string& mask_png, int edge_margin = 0);
 }  // namespace smap::eval
