@@ -115,19 +115,17 @@ void printKeypointScore(const eval::KeypointDetectionScore& s, int edgeMargin, s
     printFalsePositives(s, out);
 }
 
-/// The label ids --classes names (default: person) in the --labels set (default PASCAL VOC).
-std::vector<int> saidLabelIds(const CommandLine& cl)
+/// The classes --classes names (ids in the --labels set, default PASCAL VOC), or `defaults`.
+std::vector<std::pair<int, std::string>> namedClasses(const CommandLine& cl, const char* defaults)
 {
     const core::LabelSet labels = cl.has("labels") ? core::LabelSet::loadCsv(*cl.value("labels"))
                                                    : core::LabelSet::pascalVoc();
-    std::vector<int> ids;
-    std::stringstream names(cl.value("classes").value_or("person"));
+    std::vector<std::pair<int, std::string>> classes;
+    std::stringstream names(cl.value("classes").value_or(defaults));
     for (std::string n; std::getline(names, n, ',');)
         if (!n.empty())
-            ids.push_back(labels.idOf(n));
-    if (ids.empty())
-        throw core::InputError("--classes names no class");
-    return ids;
+            classes.emplace_back(labels.idOf(n), n);
+    return classes;
 }
 
 /// smap-eval keypoints: every DEBUG_DIR/*.csv against MASK_DIR/<same stem>.png, decided by the
@@ -153,7 +151,10 @@ int scoreKeypoints(const std::string& maskDir, const std::string& debugDir, cons
     }
     if (!std::filesystem::is_directory(*labelDir))
         throw core::InputError("--said-by '" + *labelDir + "' is not a folder");
-    o.saidLabels = saidLabelIds(cl);
+    for (const auto& [id, name] : namedClasses(cl, "person"))
+        o.saidLabels.push_back(id);
+    if (o.saidLabels.empty())
+        throw core::InputError("--classes names no class");
     o.decision = eval::KeypointDecision::Labels;
     const auto byLabels = scoreTables(tables, o, *labelDir);
     out << "decided by the label images of " << *labelDir << ":\n";
@@ -181,13 +182,7 @@ int scoreSegmentation(const std::string& gtDir, const std::string& predDir, cons
     if (!fs::is_directory(gtDir) || !fs::is_directory(predDir))
         throw core::InputError(
             mrpt::format("'%s' and '%s' must both be folders", gtDir.c_str(), predDir.c_str()));
-    const core::LabelSet labels = cl.has("labels") ? core::LabelSet::loadCsv(*cl.value("labels"))
-                                                   : core::LabelSet::pascalVoc();
-    std::vector<std::pair<int, std::string>> classes;
-    std::stringstream names(cl.value("classes").value_or("person,chair,tvmonitor"));
-    for (std::string n; std::getline(names, n, ',');)
-        if (!n.empty())
-            classes.emplace_back(labels.idOf(n), n);
+    const auto classes = namedClasses(cl, "person,chair,tvmonitor");
     eval::SegmentationScoreOptions o;
     o.iouThreshold = cl.number("iou-threshold", o.iouThreshold);
     o.minAreaFraction = cl.number("min-area", o.minAreaFraction);
