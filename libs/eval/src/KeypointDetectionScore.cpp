@@ -309,12 +309,4 @@ KeypointDetectionScore scoreKeypointFrame(const std::string& evidence_csv,
     }
     return score;
 }
-
-KeypointDetectionScore scoreKeypointFrame(const std::string& evidence_csv,
-                                          const std::string& mask_png, int edge_margin)
-{
-    KeypointScoreOptions o;
-    o.edgeMargin = edge_margin;
-    return scoreKeypointFrame(evidence_csv, mask_png, o);
-}
 }  // namespace smap::eval

@@ -99,7 +99,4 @@ struct KeypointScoreOptions
 KeypointDetectionScore scoreKeypointFrame(const std::string& evidence_csv,
                                           const std::string& mask_png,
                                           const KeypointScoreOptions& options);
-/// The table's own decisions, every keypoint scored or those off `edge_margin` (see above).
-KeypointDetectionScore scoreKeypointFrame(const std::string& evidence_csv,
-                                          const std::string& mask_png, int edge_margin = 0);
 }  // namespace smap::eval
