@@ -117,8 +117,8 @@ int run(int argc, char** argv)
             for (const auto& p : seq)
             {
                 const auto t0 = std::chrono::steady_clock::now();
-                const auto res =
-                    filter.process(p.frame.colour, p.frame.depth, p.features, p.frame.camera);
+                const auto res = filter.process(p.frame.colour, p.frame.depth, p.features,
+                                                p.frame.camera, p.frame.timestamp);
                 const double ms =
                     std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
                         .count();

@@ -118,8 +118,8 @@ Scores runFilter(const std::string& preset, dynamic::FilterMode mode, size_t fir
     {
         const Prepared p = prepare(gen, orb, i, opt.blank_columns,
                                    opt.feed_regions ? filter.moverRegions() : cv::Mat());
-        const auto r =
-            filter.process(p.frame.rendered.colour, p.frame.rendered.depth, p.features, o.camera);
+        const auto r = filter.process(p.frame.rendered.colour, p.frame.rendered.depth, p.features,
+                                      o.camera, p.frame.timestamp);
         if (i == first)
             continue;
         const cv::Mat& truthMask = p.frame.rendered.dynamic;
@@ -402,9 +402,10 @@ TEST(DynamicFilter, StrongModeEgoMotionIsRefinedOnTheFlowTracks)
     {
         const Prepared a = prepare(gen, orb, first), b = prepare(gen, orb, first + 2);
         filter.reset();
-        filter.process(a.frame.rendered.colour, a.frame.rendered.depth, a.features, o.camera);
-        const auto r =
-            filter.process(b.frame.rendered.colour, b.frame.rendered.depth, b.features, o.camera);
+        filter.process(a.frame.rendered.colour, a.frame.rendered.depth, a.features, o.camera,
+                       a.frame.timestamp);
+        const auto r = filter.process(b.frame.rendered.colour, b.frame.rendered.depth, b.features,
+                                      o.camera, b.frame.timestamp);
         ASSERT_TRUE(r.egoMotion.valid) << first;
         const Eigen::Isometry3d truth =
             toEigen(b.frame.T_world_cam).inverse() * toEigen(a.frame.T_world_cam);
@@ -548,9 +549,10 @@ TEST(DynamicFilter, MoverRegionsOnlyAfterCrowdedFrames)
     for (size_t i = 40; i < 43; ++i)
     {
         const Prepared p = prepare(gen, orb, i);
-        const auto r =
-            always.process(p.frame.rendered.colour, p.frame.rendered.depth, p.features, o.camera);
-        never.process(p.frame.rendered.colour, p.frame.rendered.depth, p.features, o.camera);
+        const auto r = always.process(p.frame.rendered.colour, p.frame.rendered.depth, p.features,
+                                      o.camera, p.frame.timestamp);
+        never.process(p.frame.rendered.colour, p.frame.rendered.depth, p.features, o.camera,
+                      p.frame.timestamp);
         fraction = static_cast<double>(r.numDynamic()) / static_cast<double>(p.features.size());
     }
     ASSERT_GT(fraction, 0.05);
@@ -564,8 +566,10 @@ TEST(DynamicFilter, MoverRegionsOnlyAfterCrowdedFrames)
     for (size_t i = 40; i < 43; ++i)
     {
         const Prepared p = prepare(gen, orb, i);
-        above.process(p.frame.rendered.colour, p.frame.rendered.depth, p.features, o.camera);
-        below.process(p.frame.rendered.colour, p.frame.rendered.depth, p.features, o.camera);
+        above.process(p.frame.rendered.colour, p.frame.rendered.depth, p.features, o.camera,
+                      p.frame.timestamp);
+        below.process(p.frame.rendered.colour, p.frame.rendered.depth, p.features, o.camera,
+                      p.frame.timestamp);
     }
     EXPECT_TRUE(above.moverRegions().empty());
     EXPECT_FALSE(below.moverRegions().empty());
@@ -603,10 +607,10 @@ TEST(DynamicFilter, ModeOffAndFirstFrameMarkNothing)
     for (size_t i = 40; i < 42; ++i)
     {
         const Prepared p = prepare(gen, orb, i);
-        const auto rp =
-            paper.process(p.frame.rendered.colour, p.frame.rendered.depth, p.features, o.camera);
-        const auto ro =
-            off.process(p.frame.rendered.colour, p.frame.rendered.depth, p.features, o.camera);
+        const auto rp = paper.process(p.frame.rendered.colour, p.frame.rendered.depth, p.features,
+                                      o.camera, p.frame.timestamp);
+        const auto ro = off.process(p.frame.rendered.colour, p.frame.rendered.depth, p.features,
+                                    o.camera, p.frame.timestamp);
         EXPECT_EQ(ro.numDynamic(), 0U);
         EXPECT_EQ(ro.weights(), std::vector<float>(p.features.size(), 1.0F));
         EXPECT_TRUE(ro.mappable().empty()) << "nothing measured: every keypoint may be mapped";

@@ -86,6 +86,7 @@ MovableLabelTracker::FrameTracks walkingFrame(uint64_t id, float speed = 6.0F,
 {
     MovableLabelTracker::FrameTracks t;
     t.frameId = id;
+    t.timestamp = static_cast<double>(id) / 30.0;
     t.framesBack = id >= 2 ? 2 : 0;
     const float x0 = 200.0F + speed * static_cast<float>(id);
     for (float v = 105.0F; v < 400.0F; v += 10.0F)
@@ -120,7 +121,7 @@ struct LabelTally
 /// frame 12: how its labels fall.
 LabelTally labelsAfterAMask(float speed, float wallDepth, bool flow)
 {
-    MovableLabelTracker tracker(40, 0.5);
+    MovableLabelTracker tracker(40.0 / 30.0, 0.5);  // 40 frames
     for (uint64_t id = 0; id < 12; ++id)
         tracker.add(walkingFrame(id, speed, wallDepth, flow));
     cv::Mat image(480, 640, CV_8UC1, cv::Scalar(0));
@@ -148,7 +149,7 @@ LabelTally labelsAfterAMask(float speed, float wallDepth, bool flow)
 
 TEST(MovableLabelTracker, LabelsFollowAWalkingPersonAndLeaveTheWall)
 {
-    MovableLabelTracker tracker(40, 0.5);
+    MovableLabelTracker tracker(40.0 / 30.0, 0.5);  // 40 frames
     for (uint64_t id = 0; id < 12; ++id)
     {
         const auto& labels = tracker.add(walkingFrame(id));
@@ -213,6 +214,7 @@ cv::Mat twoPeopleOnFrame3(MovableLabelTracker& tracker, Moving moving)
 {
     MovableLabelTracker::FrameTracks t;
     t.frameId = 3;
+    t.timestamp = 0.1;
     for (float u = 105.0F; u < 460.0F; u += 10.0F)
     {
         for (float v = 205.0F; v < 300.0F; v += 10.0F)
@@ -234,7 +236,7 @@ cv::Mat twoPeopleOnFrame3(MovableLabelTracker& tracker, Moving moving)
 
 TEST(MovableLabelTracker, MovingPartsAreTheMaskRegionsTheFlowSawMoving)
 {
-    MovableLabelTracker tracker(10, 0.5);
+    MovableLabelTracker tracker(10.0 / 30.0, 0.5);  // 10 frames
     // A walker at x 100-159 (moving keypoints) and a seated person at x 400-459.
     const cv::Mat image =
         twoPeopleOnFrame3(tracker, [](float u, float /*v*/) { return u < 200.0F; });
@@ -267,7 +269,7 @@ TEST(MovableLabelTracker, ALowerFractionTakesInASwayingPerson)
 {
     // A person at x 100-159 of whom half the measured keypoints moved (swaying), one at
     // x 400-459 who stood still.
-    MovableLabelTracker tracker(10, 0.5);
+    MovableLabelTracker tracker(10.0 / 30.0, 0.5);  // 10 frames
     const cv::Mat image = twoPeopleOnFrame3(
         tracker, [](float u, float v) { return u < 200.0F && static_cast<int>(v) % 20 == 5; });
     EXPECT_EQ(cv::countNonZero(tracker.movingParts(3, image, 2.0 / 3.0)), 0)

@@ -300,7 +300,7 @@ TEST(SemanticMapBuilder, NearAMoverOnlyWhatTwoKeyframesSawEntersTheMaps)
     // and patch B 1 m in front, 0.4 m away from them. The next keyframe either does not see
     // that part of the view (no depth there: A was seen once, as a missed part of a walking
     // person is), or sees A again where it was: 20 frames later (a static surface beside the
-    // person), or 5 frames later (less than confirm_span: a person there would not have moved).
+    // person), or 5 frames later (less than confirm_span_s: a person there would not have moved).
     const maps::BackProjector::Images first = patchesBesideAMover();
     // A and the mover not seen.
     const maps::BackProjector::Images elsewhere =
@@ -332,7 +332,7 @@ TEST(SemanticMapBuilder, NearAMoverOnlyWhatTwoKeyframesSawEntersTheMaps)
         const bool seenTwice = seenAgain && frame >= 15;
         mapping::MapBuilderParameters p;
         p.prune_near_movers = 0.1;
-        ASSERT_EQ(p.confirm_span, 15);
+        ASSERT_EQ(p.confirm_span_s, 0.5);
         mapping::SemanticMapBuilder b(p, core::LabelSet::pascalVoc());
         b.add(0, 0, 0.0, first, camera(), mrpt::poses::CPose3D());
         b.add(1, static_cast<uint64_t>(frame), frame / 30.0, seenAgain ? again : elsewhere,
@@ -363,7 +363,7 @@ TEST(SemanticMapBuilder, APersonBackAtTheSamePlaceDoesNotConfirmWhatWasMissedOfT
     // Keyframes 0 and 1, 20 frames apart, both see patch A right beside the pixels the dynamic
     // mask caught: a person who walked away and came back (or turned round), with a part of
     // them that segmentation missed (A) at the same place both times. Two keyframes spanning
-    // confirm_span would confirm it; neither saw the place clear of its own movers, so A goes.
+    // confirm_span_s would confirm it; neither saw the place clear of its own movers, so A goes.
     // With the clear test off (confirm_clear_distance 0) A stays. B, 0.4 m from the mover, and
     // the wall stay either way.
     const maps::BackProjector::Images withPerson = patchesBesideAMover();
@@ -372,7 +372,7 @@ TEST(SemanticMapBuilder, APersonBackAtTheSamePlaceDoesNotConfirmWhatWasMissedOfT
         mapping::MapBuilderParameters p;
         p.prune_near_movers = 0.1;
         p.confirm_clear_distance = clearDistance;
-        ASSERT_EQ(p.confirm_span, 15);
+        ASSERT_EQ(p.confirm_span_s, 0.5);
         mapping::SemanticMapBuilder b(p, core::LabelSet::pascalVoc());
         b.add(0, 0, 0.0, withPerson, camera(), mrpt::poses::CPose3D());
         b.add(1, 20, 20 / 30.0, withPerson, camera(), mrpt::poses::CPose3D());

@@ -90,7 +90,7 @@ TEST(SemanticMapper, EveryStageIsTimedInTheProfiler)
     }
 }
 
-// Issue 34: tracking never waits for segmentation. With the default configuration, frames go
+// Tracking never waits for segmentation. With the default configuration, frames go
 // on being tracked while no keyframe has been segmented (no mask, no wait); once the
 // segmentation answers, later frames use its mask and report how old it is.
 TEST(SemanticMapper, TrackingNeverWaitsForALateSegmentation)
@@ -101,7 +101,7 @@ TEST(SemanticMapper, TrackingNeverWaitsForALateSegmentation)
     pipeline::SemanticMapperParameters params;
     params.segmentation.backend = "none";
     params.pipeline.snapshots = false;
-    ASSERT_EQ(params.semanticEvidence.mask_latency, 0);
+    ASSERT_EQ(params.semanticEvidence.mask_latency_s, 0.0);
     std::promise<void> gate;
     pipeline::SemanticMapper mapper(
         params, std::make_unique<GatedSegmenter>(segmentation::loadLabelSet(params.segmentation),

@@ -155,7 +155,7 @@ TEST(LoopClosing, RevisitsAreVerifiedTrueAndDeterministic)
     const auto& seq = staticXyz();
     slam::LoopClosingParameters loop;
     loop.threaded = false;
-    loop.min_frame_gap = 40;
+    loop.min_age_s = 40.0 / 30.0;  // 40 frames
     loop.min_keyframes = 3;
     std::vector<core::Trajectory> runs;
     for (int r = 0; r < 2; ++r)
@@ -255,7 +255,7 @@ TEST(RgbdSlam, UnknownSceneIsReanchoredAfterAFewLostFrames)
     for (const int after : {3, 0})
     {
         slam::TrackerParameters tp;
-        tp.reanchor_after = after;
+        tp.reanchor_after_s = after / 30.0;  // frames at 30 frames/s
         slam::RgbdSlam slam(features::OrbParameters{}, tp, deterministic());
         std::vector<slam::TrackingStatus> status;
         status.reserve(frames.size());
@@ -316,7 +316,7 @@ TEST(RgbdSlam, AReanchoredPartMergesWhereItMeetsTheMapAgain)
     constexpr size_t kBlank = 50, kInverted = 60, kHalf = 75, kEnd = 100;
     const auto& seq = staticXyz();
     slam::TrackerParameters tp;
-    tp.reanchor_after = 3;
+    tp.reanchor_after_s = 3.0 / 30.0;  // 3 frames
     slam::RgbdSlam slam(features::OrbParameters{}, tp, deterministic());
     std::vector<slam::TrackingResult> results;
     for (size_t i = 0; i < kEnd; ++i)
@@ -536,7 +536,7 @@ TEST(RgbdSlam, FallbackPoseFarFromThePredictionIsNotKept)
         slam::TrackerParameters tp;
         tp.fallback_max_jump = maxJump;
         tp.fallback_max_jump_deg = 0.0;
-        tp.carried_search_frames = 0;
+        tp.carried_search_s = 0.0;
         slam::RgbdSlam slam(features::OrbParameters{}, tp, deterministic());
         slam::TrackingResult bad;
         for (size_t i = 0; i <= kBad; ++i)
@@ -639,7 +639,7 @@ TEST(RgbdSlam, FrameBeforeTheMapIsPosedFromTheOdometryThatLinksIt)
 // more inliers than there are keypoints). The outside odometry, 2 mm off per frame, carries
 // the pose across the gap: the first frame after it is found in the local map from the carried
 // pose (fallback "carried_pose") and placed at the true pose. Without the odometry, or when
-// the gap is longer than carried_search_frames, or when the frame finds fewer than
+// the gap lasts carried_search_s or longer, or when the frame finds fewer than
 // carried_min_inliers there, it stays lost.
 TEST(RgbdSlam, LostFramesArePlacedFromThePoseTheOdometryCarried)
 {
@@ -658,7 +658,7 @@ TEST(RgbdSlam, LostFramesArePlacedFromThePoseTheOdometryCarried)
     {
         slam::TrackerParameters tp;
         tp.min_inliers_after_relocalisation = 100000;
-        tp.carried_search_frames = searchFrames;
+        tp.carried_search_s = searchFrames / 30.0;  // frames at 30 frames/s
         tp.carried_min_inliers = carriedMinInliers;
         slam::RgbdSlam slam(features::OrbParameters{}, tp, deterministic());
         Ends ends;
@@ -885,14 +885,14 @@ TEST(SlamParameters, InvalidValuesNameTheKey)
     EXPECT_NE(test::inputErrorOf([&] { t.loadFromConfigFile(cfg, ""); }).find("max_depth"),
               std::string::npos);
     mrpt::config::CConfigFileMemory revisit;
-    revisit.write("tracking", "revisit_max_frames", -2);
+    revisit.write("tracking", "revisit_max_age_s", -2);
     slam::TrackerParameters r;
     EXPECT_NE(test::inputErrorOf([&] { r.loadFromConfigFile(revisit, ""); })
-                  .find("revisit_max_frames = -2"),
+                  .find("revisit_max_age_s = -2"),
               std::string::npos);
-    revisit.write("tracking", "revisit_max_frames", -1);
+    revisit.write("tracking", "revisit_max_age_s", -1);
     r.loadFromConfigFile(revisit, "");
-    EXPECT_EQ(r.revisit_max_frames, -1) << "-1 (follow loop closing) is valid";
+    EXPECT_EQ(r.revisit_max_age_s, -1.0) << "-1 (follow loop closing) is valid";
     mrpt::config::CConfigFileMemory newPoints;
     newPoints.write("tracking", "keyframe_new_points", -1);
     slam::TrackerParameters n;
@@ -900,10 +900,10 @@ TEST(SlamParameters, InvalidValuesNameTheKey)
                   .find("keyframe_new_points"),
               std::string::npos);
     mrpt::config::CConfigFileMemory carried;
-    carried.write("tracking", "carried_search_frames", -2);
+    carried.write("tracking", "carried_search_s", -2);
     slam::TrackerParameters c;
     EXPECT_NE(test::inputErrorOf([&] { c.loadFromConfigFile(carried, ""); })
-                  .find("carried_search_frames = -2"),
+                  .find("carried_search_s = -2"),
               std::string::npos);
     for (const auto& [key, value] : {std::pair<const char*, double>{"relocalisation_sweep", -1},
                                      {"carried_min_inliers", 0},

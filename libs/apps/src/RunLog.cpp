@@ -140,16 +140,16 @@ namespace
 {
 /// movable_keypoints, mask_age (empty: no mask), mask_wait_ms, semantic_ms and the fallback the
 /// tracker took (empty: none).
-std::string semanticCsv(const pipeline::SemanticMapper::FrameResult& r)
+std::string semanticCsv(const pipeline::SemanticMapper::FrameResult& r, bool timings)
 {
     return std::to_string(r.movableKeypoints) + "," +
            (r.maskAge ? std::to_string(*r.maskAge) : std::string()) + "," +
-           mrpt::format("%.3f,%.3f,", r.mask_wait_ms, r.semantic_ms) +
+           (timings ? mrpt::format("%.3f,%.3f,", r.mask_wait_ms, r.semantic_ms) : ",,") +
            slam::toString(r.tracking.fallback);
 }
 }  // namespace
 
-std::string RunLog::framesCsv() const
+std::string RunLog::framesCsv(bool timings) const
 {
     std::string csv = pipeline::frameStatsCsvHeader() + "," + std::string(kTrackingColumns) + "\n";
     auto nextSkipped = skipped_.begin();
@@ -161,12 +161,14 @@ std::string RunLog::framesCsv() const
         csv += pipeline::toCsvRow(r.stats) + "," + slam::toString(t.status) + "," +
                std::to_string(t.keypoints) + "," + std::to_string(t.inliers) + "," +
                (t.newKeyFrame ? "1" : "0") + "," +
-               mrpt::format("%.3f,%.3f,%.3f,%.3f,%.3f,%.3f", t.timings.extraction_ms,
-                            t.timings.matching_ms, t.timings.optimisation_ms, t.timings.total_ms,
-                            t.timings.map_wait_ms, t.timings.cpu_ms) +
+               (timings ? mrpt::format("%.3f,%.3f,%.3f,%.3f,%.3f,%.3f", t.timings.extraction_ms,
+                                       t.timings.matching_ms, t.timings.optimisation_ms,
+                                       t.timings.total_ms, t.timings.map_wait_ms, t.timings.cpu_ms)
+                        : std::string(",,,,,")) +
                "," + std::to_string(r.result.dynamicKeypoints) + "," +
-               mrpt::format("%.3f,%.3f,", r.result.dynamic_ms, r.result.queue_wait_ms) +
-               semanticCsv(r.result) + ",\n";
+               (timings ? mrpt::format("%.3f,%.3f,", r.result.dynamic_ms, r.result.queue_wait_ms)
+                        : std::string(",,")) +
+               semanticCsv(r.result, timings) + ",\n";
     }
     for (; nextSkipped != skipped_.end(); ++nextSkipped)
         csv += skippedCsvRow(*nextSkipped);

@@ -171,6 +171,10 @@ std::string SemanticMapperApp::usage()
            "  --set S.K=V  override one configuration key, e.g. --set input.max_frames=100\n"
            "  --dynamic-debug FRAMES  for these frames ('all' or e.g. '0,50-60') write\n"
            "               DIR/dynamic/NNNNNN.png and .csv (the dynamic filter's evidence)\n"
+           "  --reproducible  byte-identical outputs run to run (= --set "
+           "pipeline.reproducible=true):\n"
+           "               no thread decides anything; metrics.json and frames.csv then hold no\n"
+           "               timings (docs/pipeline.md, Reproducible runs)\n"
            "  --print-config  print every configuration key with its default and exit\n"
            "  --quiet      only warnings and errors\n"
            "  --help       this text\n"
@@ -198,7 +202,8 @@ bool SemanticMapperApp::initialize(const std::vector<std::string>& args, std::os
         .option("dynamic-debug")
         .flag("print-config")
         .flag("help")
-        .flag("quiet");
+        .flag("quiet")
+        .flag("reproducible");
     cl.parse(args);
     if (cl.has("help"))
     {
@@ -229,6 +234,9 @@ bool SemanticMapperApp::initialize(const std::vector<std::string>& args, std::os
     std::vector<mrpt::config::CLoadableOptions*> parts = parameters.parts();
     parts.insert(parts.begin(), &sourceParameters);
     loadAppConfiguration(cl, parts, options.input, *this);
+    if (cl.has("reproducible"))
+        parameters.pipeline.reproducible = true;
+    parameters.applyReproducibleMode();
     chooseSegmenter();
     parseGroundTruthOptions(cl);
     return true;
@@ -446,6 +454,26 @@ core::JsonValue timingSummary(const detail::MapperRun& s)
     return timings;
 }
 
+/// Reproducible runs: metrics.json without the figures that measure the machine or depend on
+/// the threads' timing (wall and CPU times, memory, queue levels, waits), all listed here.
+void leaveOutMachineFigures(core::JsonValue& metrics)
+{
+    metrics.erase("timings");
+    if (core::JsonValue* t = metrics.find("tracking"))
+        t->erase("global_ba_seconds");
+    if (core::JsonValue* k = metrics.find("keyframes"))
+        for (const char* key :
+             {"tracking_waited_queue_full", "queue_high_water", "segmented_ahead"})
+            k->erase(key);
+    core::JsonValue* loop = metrics.find("loop");
+    if (!loop)
+        return;
+    loop->erase("correction_median_ms").erase("correction_max_ms");
+    if (core::JsonValue* list = loop->find("list"))
+        for (size_t i = 0; i < list->size(); ++i)
+            list->at(i).erase("correction_ms").erase("global_ba_ms");
+}
+
 /// The first reference is the run's evaluation (and plot); each further one is reported beside
 /// it (datasets whose pseudo ground truths disagree, e.g. 7-Scenes).
 void addEvaluations(detail::MapperRun& s, bool plot, core::JsonValue& metrics,
@@ -617,7 +645,7 @@ void SemanticMapperApp::finishMapping(detail::MapperRun& s)
                            "first keyframe's camera");
     io::writeTumTrajectory((s.dir / "keyframes.txt").string(), s.mapper->keyFrameTrajectory(),
                            "keyframe poses after bundle adjustment");
-    writeText(s.dir / "frames.csv", s.log.framesCsv());
+    writeText(s.dir / "frames.csv", s.log.framesCsv(!parameters.pipeline.reproducible));
     if (s.annotated)
         s.files.emplace_back("annotated.rawlog");
 }
@@ -673,6 +701,8 @@ void SemanticMapperApp::writeMetrics(detail::MapperRun& s)
         metrics.set("segmentation_scores", s.scorer->toJson());
         MRPT_LOG_INFO_STREAM(s.scorer->toText());
     }
+    if (parameters.pipeline.reproducible)
+        leaveOutMachineFigures(metrics);
     writeText(s.dir / "metrics.json", metrics.dump());
     s.files.emplace_back("metrics.json");
 }

@@ -1,5 +1,6 @@
 #include "smap/core/JsonWriter.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 
@@ -66,6 +67,22 @@ JsonValue& JsonValue::set(const std::string& key, JsonValue v)
 JsonValue& JsonValue::push(JsonValue v)
 {
     items_.push_back(std::move(v));
+    return *this;
+}
+
+JsonValue* JsonValue::find(const std::string& key)
+{
+    for (auto& [k, v] : members_)
+        if (k == key)
+            return &v;
+    return nullptr;
+}
+
+JsonValue& JsonValue::erase(const std::string& key)
+{
+    members_.erase(std::remove_if(members_.begin(), members_.end(),
+                                  [&key](const auto& m) { return m.first == key; }),
+                   members_.end());
     return *this;
 }
 

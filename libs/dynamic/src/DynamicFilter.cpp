@@ -7,6 +7,7 @@
 #include "FrameHistory.h"
 #include "PaperMode.h"
 #include "StrongMode.h"
+#include "smap/core/RecordingTime.h"
 
 namespace smap::dynamic
 {
@@ -71,7 +72,7 @@ cv::Mat DynamicFilter::moverRegions() const
 
 DynamicResult DynamicFilter::process(const cv::Mat& colour, const cv::Mat& depth,
                                      const features::FeatureSet& features,
-                                     const core::PinholeCamera& camera)
+                                     const core::PinholeCamera& camera, double timestamp)
 {
     const auto t0 = std::chrono::steady_clock::now();
     DynamicResult result;
@@ -91,6 +92,8 @@ DynamicResult DynamicFilter::process(const cv::Mat& colour, const cv::Mat& depth
         return ms;
     };
     FrameHistory& history = state_->history;
+    if (params_.mode == FilterMode::Strong)
+        dropFramesBeforeGap(timestamp);
     result.evaluated = params_.mode == FilterMode::Off || !history.empty();
     const bool compare = params_.mode != FilterMode::Off && !history.empty() && features.size() > 0;
     if (compare)
@@ -102,7 +105,7 @@ DynamicResult DynamicFilter::process(const cv::Mat& colour, const cv::Mat& depth
         case FilterMode::Paper:
             if (compare)
                 state_->paper.evaluate(grey, features, camera, history.front(), msSinceLap, result);
-            remember(grey, depth, features, result, 1);
+            remember(grey, depth, features, result, 1, timestamp);
             break;
         case FilterMode::Strong:
             // The current pyramid is also the next frames' reference pyramid.
@@ -110,7 +113,7 @@ DynamicResult DynamicFilter::process(const cv::Mat& colour, const cv::Mat& depth
             result.warp_ms = msSinceLap();
             if (compare)
                 state_->strong.evaluate(depth, features, camera, history, msSinceLap, result);
-            remember(grey, depth, features, result, static_cast<size_t>(params_.frame_gap));
+            remember(grey, depth, features, result, kMaxHistory, timestamp);
             break;
     }
     result.total_ms =
@@ -118,11 +121,20 @@ DynamicResult DynamicFilter::process(const cv::Mat& colour, const cv::Mat& depth
     return result;
 }
 
+void DynamicFilter::dropFramesBeforeGap(double timestamp)
+{
+    FrameHistory& history = state_->history;
+    while (history.size() >= 2 &&
+           core::reached(timestamp - history[1].timestamp, params_.frame_gap_s))
+        history.pop_front();
+}
+
 void DynamicFilter::remember(const cv::Mat& grey, const cv::Mat& depth,
                              const features::FeatureSet& features, const DynamicResult& result,
-                             size_t keep)
+                             size_t keep, double timestamp)
 {
     PastFrame past;
+    past.timestamp = timestamp;
     past.grey = grey;
     past.depth = depth;
     past.features = features;

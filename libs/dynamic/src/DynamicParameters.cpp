@@ -39,7 +39,7 @@ core::OptionFields DynamicParameters::fields(const std::string& section)
         .add("ego_gate_translation", ego_gate_translation)
         .add("ego_gate_rotation_deg", ego_gate_rotation_deg)
         .add("ego_gate_min_support", ego_gate_min_support)
-        .add("frame_gap", frame_gap)
+        .add("frame_gap_s", frame_gap_s)
         .add("strong_lk_window", strong_lk_window)
         .add("strong_lk_levels", strong_lk_levels)
         .add("tau_min", tau_min)
@@ -75,9 +75,9 @@ void DynamicParameters::validateStrongMode() const
     if (!(pnp_threshold > 0.0))
         throw core::InputError(
             mrpt::format("[dynamic] pnp_threshold = %g must be > 0", pnp_threshold));
-    if (frame_gap < 1 || frame_gap > 30)
+    if (!(frame_gap_s >= 0.0 && frame_gap_s <= 1.0))
         throw core::InputError(
-            mrpt::format("[dynamic] frame_gap = %d must be in [1, 30]", frame_gap));
+            mrpt::format("[dynamic] frame_gap_s = %g must be in [0, 1] s", frame_gap_s));
     if (ego_max_queries != 0 && ego_max_queries < 20)
         throw core::InputError(mrpt::format(
             "[dynamic] ego_max_queries = %d must be 0 (all) or >= 20", ego_max_queries));

@@ -33,6 +33,7 @@ struct DecisionCells
 /// A frame kept for comparison with later ones.
 struct PastFrame
 {
+    double timestamp = 0.0;  ///< s
     cv::Mat grey;
     std::vector<cv::Mat> pyramid;  ///< Lucas-Kanade pyramid with derivatives (strong)
     cv::Mat depth;
@@ -44,6 +45,6 @@ struct PastFrame
 };
 
 /// Oldest first. The reference of a new frame is the front: the previous frame (paper), or
-/// frame_gap frames back (strong; fewer at the start).
+/// the newest frame at least frame_gap_s older (strong; the oldest kept at the start).
 using FrameHistory = std::deque<PastFrame>;
 }  // namespace smap::dynamic

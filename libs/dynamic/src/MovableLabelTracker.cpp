@@ -5,6 +5,8 @@
 #include <limits>
 #include <opencv2/imgproc.hpp>
 
+#include "smap/core/RecordingTime.h"
+
 namespace smap::dynamic
 {
 namespace
@@ -102,8 +104,8 @@ struct LabelCells
 };
 }  // namespace
 
-MovableLabelTracker::MovableLabelTracker(size_t keep, double depthMargin)
-    : keep_(std::max<size_t>(keep, 1)), depthMargin_(static_cast<float>(depthMargin))
+MovableLabelTracker::MovableLabelTracker(double keep_s, double depthMargin)
+    : keep_s_(keep_s), depthMargin_(static_cast<float>(depthMargin))
 {
 }
 
@@ -151,7 +153,10 @@ const std::vector<MovableLabelTracker::Label>& MovableLabelTracker::add(FrameTra
     k.tracks = std::move(frame);
     labelFromReference(k);
     frames_.push_back(std::move(k));
-    while (frames_.size() > keep_)
+    const double newest = frames_.back().tracks.timestamp;
+    while (frames_.size() > kMaxKept ||
+           (frames_.size() > 1 &&
+            newest - frames_.front().tracks.timestamp > keep_s_ + core::kTimeTolerance_s))
         frames_.pop_front();
     return frames_.back().labels;
 }

@@ -11,10 +11,10 @@ core::OptionFields SemanticEvidenceParameters::fields(const std::string& section
     core::OptionFields f(section, "semantic_evidence");
     f.add("enabled", enabled)
         .add("movable_prior", movable_prior)
-        .add("mask_latency", mask_latency)
-        .add("max_mask_age", max_mask_age)
+        .add("mask_latency_s", mask_latency_s)
+        .add("max_mask_age_s", max_mask_age_s)
         .add("dilation_px", dilation_px)
-        .add("age_dilation_px", age_dilation_px)
+        .add("age_dilation_px_per_s", age_dilation_px_per_s)
         .add("max_dilation_px", max_dilation_px)
         .add("depth_margin", depth_margin)
         .add("sample_step", sample_step)
@@ -31,17 +31,18 @@ void SemanticEvidenceParameters::loadFromConfigFile(const mrpt::config::CConfigF
         throw core::InputError(
             mrpt::format("[semantic_evidence] movable_prior = %g must be >= 0 (above 1: no class)",
                          movable_prior));
-    if (mask_latency < 0 || max_mask_age < 1 || mask_latency > max_mask_age)
+    if (!(mask_latency_s >= 0.0) || !(max_mask_age_s > 0.0) || mask_latency_s > max_mask_age_s ||
+        max_mask_age_s > 60.0)
         throw core::InputError(mrpt::format(
-            "[semantic_evidence] mask_latency = %d must be in [0, max_mask_age = %d] and "
-            "max_mask_age >= 1",
-            mask_latency, max_mask_age));
-    if (!(dilation_px >= 0.0) || !(age_dilation_px >= 0.0) || !(max_dilation_px >= dilation_px) ||
-        max_dilation_px > 200.0)
+            "[semantic_evidence] mask_latency_s = %g must be in [0, max_mask_age_s = %g] and "
+            "max_mask_age_s in (0, 60] s",
+            mask_latency_s, max_mask_age_s));
+    if (!(dilation_px >= 0.0) || !(age_dilation_px_per_s >= 0.0) ||
+        !(max_dilation_px >= dilation_px) || max_dilation_px > 200.0)
         throw core::InputError(mrpt::format(
             "[semantic_evidence] need 0 <= dilation_px = %g <= max_dilation_px = %g <= 200 and "
-            "age_dilation_px = %g >= 0",
-            dilation_px, max_dilation_px, age_dilation_px));
+            "age_dilation_px_per_s = %g >= 0",
+            dilation_px, max_dilation_px, age_dilation_px_per_s));
     if (!(depth_margin >= 0.0))
         throw core::InputError(
             mrpt::format("[semantic_evidence] depth_margin = %g must be >= 0", depth_margin));

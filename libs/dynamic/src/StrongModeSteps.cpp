@@ -317,7 +317,7 @@ void measureEvidence(const features::FeatureSet& features, const DepthHypotheses
         auto& e = evidence[i];
         // Depth: the point now sits where the reference frame saw farther through (something
         // moved in front). Only with a measured depth. And the reverse: where the reference
-        // saw something much closer (farther than a person moves in frame_gap frames), the
+        // saw something much closer (farther than a person moves in frame_gap_s), the
         // point was hidden then and is revealed now; its flow says nothing.
         bool hidden = false;
         const float zRef = prediction.referenceDepth[i];

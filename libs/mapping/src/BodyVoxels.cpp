@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <opencv2/imgproc.hpp>
 
 #include "KeyFrameVoxels.h"
 #include "smap/core/LabelSet.h"
+#include "smap/core/RecordingTime.h"
 
 namespace smap::mapping
 {
@@ -79,7 +81,7 @@ std::vector<Eigen::Vector3f> BodyVoxels::samples(const maps::BackProjector::Imag
     return out;
 }
 
-BodyVoxels::BodyVoxels(double radius, uint64_t span) : radius_(radius), span_(span) {}
+BodyVoxels::BodyVoxels(double radius, double span_s) : radius_(radius), span_s_(span_s) {}
 
 int64_t BodyVoxels::cell(float a) const
 {
@@ -98,7 +100,7 @@ void BodyVoxels::add(const KeyFrameContribution& c)
         auto& samples = cells_[voxelKey(cx, cy, cz)];
         if (samples.empty())
             addReach(cx, cy, cz);
-        samples.push_back({w, c.frameId});
+        samples.push_back({w, c.timestamp});
     }
 }
 
@@ -121,7 +123,8 @@ bool BodyVoxels::near(const Eigen::Vector3f& p) const
     const int64_t cx = cell(p.x()), cy = cell(p.y()), cz = cell(p.z());
     if (reach_.count(voxelKey(cx, cy, cz)) == 0)
         return false;
-    uint64_t first = UINT64_MAX, last = 0;
+    double first = std::numeric_limits<double>::infinity();
+    double last = -first;
     for (int64_t dx = -1; dx <= 1; ++dx)
     {
         for (int64_t dy = -1; dy <= 1; ++dy)
@@ -135,9 +138,9 @@ bool BodyVoxels::near(const Eigen::Vector3f& p) const
                 {
                     if ((s.position - p).squaredNorm() > r2)
                         continue;
-                    first = std::min(first, s.frame);
-                    last = std::max(last, s.frame);
-                    if (last - first >= span_)
+                    first = std::min(first, s.time);
+                    last = std::max(last, s.time);
+                    if (core::reached(last - first, span_s_))
                         return true;
                 }
             }

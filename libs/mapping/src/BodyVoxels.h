@@ -27,14 +27,14 @@ public:
     /// about half a metre deep).
     static constexpr float kDepthSpan = 0.4F;
 
-    /// `radius`: how near a body sample a point must lie (m); also the voxel edge. `span`:
-    /// frames over which keyframes must have seen a body there (a person who stayed).
-    BodyVoxels(double radius, uint64_t span);
+    /// `radius`: how near a body sample a point must lie (m); also the voxel edge. `span_s`:
+    /// time (s) over which keyframes must have seen a body there (a person who stayed).
+    BodyVoxels(double radius, double span_s);
 
     /// c's body samples at c's pose.
     void add(const KeyFrameContribution& c);
     /// Whether the world point p lies within the radius of body samples of keyframes made at
-    /// least `span` frames apart: a person stayed there (a walking person's outline, where
+    /// least `span_s` apart: a person stayed there (a walking person's outline, where
     /// labels spill onto the background, is somewhere else a moment later).
     bool near(const Eigen::Vector3f& p) const;
     bool empty() const { return cells_.empty(); }
@@ -47,10 +47,10 @@ private:
     struct Sample
     {
         Eigen::Vector3f position;
-        uint64_t frame = 0;  ///< of the keyframe that saw it
+        double time = 0.0;  ///< s, of the keyframe that saw it
     };
     double radius_;
-    uint64_t span_;
+    double span_s_;
     std::unordered_map<int64_t, std::vector<Sample>> cells_;
     /// The voxels with samples and their 26 neighbours: one lookup answers "none near" for
     /// most points.

@@ -4,6 +4,8 @@
 #include <array>
 #include <cmath>
 
+#include "smap/core/RecordingTime.h"
+
 namespace smap::mapping
 {
 namespace
@@ -49,8 +51,8 @@ bool anyWithin(const std::vector<Eigen::Vector3f>& points, const Eigen::Vector3f
 }
 }  // namespace
 
-KeyFrameVoxels::KeyFrameVoxels(double edge, size_t needed, uint64_t span, bool needClear)
-    : edge_(edge), needed_(needed), span_(span), needClear_(needClear)
+KeyFrameVoxels::KeyFrameVoxels(double edge, size_t needed, double span_s, bool needClear)
+    : edge_(edge), needed_(needed), span_s_(span_s), needClear_(needClear)
 {
 }
 
@@ -59,12 +61,12 @@ int64_t KeyFrameVoxels::cell(float a) const
     return static_cast<int64_t>(std::floor(a / edge_));
 }
 
-void KeyFrameVoxels::add(const Eigen::Vector3f& p, uint32_t keyframe, uint64_t frame, bool clear)
+void KeyFrameVoxels::add(const Eigen::Vector3f& p, uint32_t keyframe, double time, bool clear)
 {
     Seen& s = seen_[voxelKey(cell(p.x()), cell(p.y()), cell(p.z()))];
     addDistinct(s.keyframes, keyframe, needed_);
-    s.firstFrame = std::min(s.firstFrame, frame);
-    s.lastFrame = std::max(s.lastFrame, frame);
+    s.firstTime = std::min(s.firstTime, time);
+    s.lastTime = std::max(s.lastTime, time);
     if (clear && needClear_)  // without the clear test, no query reads them
         addClear(s.clearPoints, p, edge_ / 4.0);
 }
@@ -73,7 +75,8 @@ bool KeyFrameVoxels::confirmed(const Eigen::Vector3f& p) const
 {
     static const auto kNeighbourhood = neighbourhood();
     std::vector<uint32_t> keyframes;
-    uint64_t first = UINT64_MAX, last = 0;
+    double first = std::numeric_limits<double>::infinity();
+    double last = -first;
     bool clear = !needClear_;
     const int64_t cx = cell(p.x()), cy = cell(p.y()), cz = cell(p.z());
     for (const auto& [dx, dy, dz] : kNeighbourhood)
@@ -83,10 +86,11 @@ bool KeyFrameVoxels::confirmed(const Eigen::Vector3f& p) const
             continue;
         for (uint32_t k : it->second.keyframes)
             addDistinct(keyframes, k, needed_);
-        first = std::min(first, it->second.firstFrame);
-        last = std::max(last, it->second.lastFrame);
+        first = std::min(first, it->second.firstTime);
+        last = std::max(last, it->second.lastTime);
         clear = clear || anyWithin(it->second.clearPoints, p, edge_);
     }
-    return clear && keyframes.size() >= needed_ && last >= first && last - first >= span_;
+    return clear && keyframes.size() >= needed_ && last >= first &&
+           core::reached(last - first, span_s_);
 }
 }  // namespace smap::mapping

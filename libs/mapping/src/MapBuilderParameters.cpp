@@ -23,7 +23,7 @@ void MapBuilderParameters::loadFromConfigFile(const mrpt::config::CConfigFileBas
             "[map] prune_near_movers = %g must be in [0, 2] m (0: off)", prune_near_movers));
     confirm_near_movers = cfg.read_int(s, "confirm_near_movers", confirm_near_movers);
     confirm_radius = cfg.read_double(s, "confirm_radius", confirm_radius);
-    confirm_span = cfg.read_int(s, "confirm_span", confirm_span);
+    confirm_span_s = cfg.read_double(s, "confirm_span_s", confirm_span_s);
     confirm_clear_distance = cfg.read_double(s, "confirm_clear_distance", confirm_clear_distance);
     if (!(confirm_clear_distance >= 0.0 && confirm_clear_distance <= 2.0))
         throw core::InputError(
@@ -35,9 +35,9 @@ void MapBuilderParameters::loadFromConfigFile(const mrpt::config::CConfigFileBas
             "[map] see_through_margin = %g must be in [0, 2] m (0: off)", see_through_margin));
     see_through_majority = cfg.read_bool(s, "see_through_majority", see_through_majority);
     loadMovableBody(cfg);
-    if (confirm_span < 0)
+    if (!(confirm_span_s >= 0.0))
         throw core::InputError(
-            mrpt::format("[map] confirm_span = %d must be >= 0 frames", confirm_span));
+            mrpt::format("[map] confirm_span_s = %g must be >= 0 s", confirm_span_s));
     if (confirm_near_movers < 0 || confirm_near_movers > 16)
         throw core::InputError(mrpt::format(
             "[map] confirm_near_movers = %d must be in [0, 16] keyframes (0 or 1: off)",
@@ -87,7 +87,7 @@ void MapBuilderParameters::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
     cfg.write(s, "prune_near_movers", prune_near_movers);
     cfg.write(s, "confirm_near_movers", confirm_near_movers);
     cfg.write(s, "confirm_radius", confirm_radius);
-    cfg.write(s, "confirm_span", confirm_span);
+    cfg.write(s, "confirm_span_s", confirm_span_s);
     cfg.write(s, "confirm_clear_distance", confirm_clear_distance);
     cfg.write(s, "see_through_margin", see_through_margin);
     cfg.write(s, "see_through_majority", see_through_majority);

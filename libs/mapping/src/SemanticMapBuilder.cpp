@@ -271,8 +271,7 @@ SemanticMapBuilder::dropTest(const std::vector<std::vector<maps::SemanticPoint>>
     std::shared_ptr<BodyVoxels> bodies;
     if (bodyTest)
     {
-        bodies = std::make_shared<BodyVoxels>(params_.movable_body_radius,
-                                              static_cast<uint64_t>(params_.confirm_span));
+        bodies = std::make_shared<BodyVoxels>(params_.movable_body_radius, params_.confirm_span_s);
         for (const auto& c : contributions_)
             bodies->add(c);
         if (bodies->empty())  // no keyframe saw a movable object
@@ -303,7 +302,7 @@ std::shared_ptr<const KeyFrameVoxels> SemanticMapBuilder::confirmationVoxels(
 {
     auto voxels = std::make_shared<KeyFrameVoxels>(
         params_.confirm_radius, static_cast<size_t>(params_.confirm_near_movers),
-        static_cast<uint64_t>(params_.confirm_span), params_.confirm_clear_distance > 0.0);
+        params_.confirm_span_s, params_.confirm_clear_distance > 0.0);
     for (size_t k = 0; k < contributions_.size(); ++k)
     {
         const KeyFrameContribution& c = contributions_[k];
@@ -312,7 +311,8 @@ std::shared_ptr<const KeyFrameVoxels> SemanticMapBuilder::confirmationVoxels(
             own.add(c);
         for (const auto& p : world[k])
             if (near(p.position))
-                voxels->add(p.position, static_cast<uint32_t>(k), c.frameId, !own.near(p.position));
+                voxels->add(p.position, static_cast<uint32_t>(k), c.timestamp,
+                            !own.near(p.position));
     }
     return voxels;
 }

@@ -18,6 +18,7 @@ void PipelineParameters::loadFromConfigFile(const mrpt::config::CConfigFileBase&
         .addEnum("when_full", when_full, {{"wait", WhenFull::Wait}, {"drop", WhenFull::Drop}})
         .load(cfg);
     opencv_threads = cfg.read_int(p, "opencv_threads", opencv_threads);
+    reproducible = cfg.read_bool(p, "reproducible", reproducible);
     if (frame_queue < 0 || frame_queue > 1000)
         throw core::InputError(
             mrpt::format("[pipeline] frame_queue = %d must be in [0, 1000]", frame_queue));
@@ -51,6 +52,7 @@ void PipelineParameters::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,
         .addEnum("when_full", self->when_full, {{"wait", WhenFull::Wait}, {"drop", WhenFull::Drop}})
         .save(cfg);
     cfg.write(p, "opencv_threads", opencv_threads);
+    cfg.write(p, "reproducible", reproducible);
     const char* o = "output";
     cfg.write(o, "annotated_rawlog", annotated_rawlog);
     cfg.write(o, "snapshots", snapshots);

@@ -4,10 +4,20 @@
 #include <opencv2/core.hpp>
 
 #include "smap/core/Elapsed.h"
+#include "smap/core/RecordingTime.h"
 #include "smap/dynamic/MovableVerdict.h"
 
 namespace smap::pipeline
 {
+namespace
+{
+SemanticMapperParameters withReproducibleMode(SemanticMapperParameters params)
+{
+    params.applyReproducibleMode();
+    return params;
+}
+}  // namespace
+
 SemanticMapper::SemanticMapper(const SemanticMapperParameters& params)
     : SemanticMapper(params, segmentation::makeSegmenter(params.segmentation))
 {
@@ -16,13 +26,13 @@ SemanticMapper::SemanticMapper(const SemanticMapperParameters& params)
 SemanticMapper::SemanticMapper(const SemanticMapperParameters& params,
                                std::unique_ptr<segmentation::Segmenter> segmenter)
     : COutputLogger("semantic-mapper"),
-      params_(params),
-      slam_(std::make_unique<slam::RgbdSlam>(params.orb, params.tracking, params.localMapping,
-                                             params.loopClosing)),
-      dynamicFilter_(params.dynamic),
-      labelTracker_(
-          static_cast<size_t>(params.semanticEvidence.max_mask_age + params.dynamic.frame_gap + 4),
-          params.semanticEvidence.depth_margin),
+      params_(withReproducibleMode(params)),
+      slam_(std::make_unique<slam::RgbdSlam>(params_.orb, params_.tracking, params_.localMapping,
+                                             params_.loopClosing)),
+      dynamicFilter_(params_.dynamic),
+      labelTracker_(params_.semanticEvidence.max_mask_age_s + params_.dynamic.frame_gap_s +
+                        kLabelHistoryMargin_s,
+                    params_.semanticEvidence.depth_margin),
       profiler_(true, "semantic-mapper")
 {
     profiler_.setMinLoggingLevel(mrpt::system::LVL_ERROR);  // no statistics dump on exit
@@ -33,7 +43,7 @@ SemanticMapper::SemanticMapper(const SemanticMapperParameters& params,
     {
         worker_->setMaskBoard(
             &maskBoard_, worker_->labels().movable(params_.semanticEvidence.movable_prior),
-            params_.semanticEvidence.sample_step, params_.semanticEvidence.mask_latency == 0);
+            params_.semanticEvidence.sample_step, params_.semanticEvidence.mask_latency_s == 0.0);
     }
 }
 
@@ -53,8 +63,8 @@ SemanticMapper::PreparedFrame SemanticMapper::prepare(const core::RgbdFrame& fra
     // view would otherwise take most of the budget from the background).
     p.features = slam_->prepare(frame, dynamicFilter_.moverRegions());
     p.extraction_ms = core::millisecondsSince(t0);
-    p.dynamic =
-        dynamicFilter_.process(frame.colour, frame.depth, p.features.features, frame.camera);
+    p.dynamic = dynamicFilter_.process(frame.colour, frame.depth, p.features.features, frame.camera,
+                                       frame.timestamp);
     profiler_.registerUserMeasure("frame.extraction", p.extraction_ms / 1000.0, true);
     profiler_.registerUserMeasure("frame.dynamic", p.dynamic.total_ms / 1000.0, true);
     profiler_.registerUserMeasure("frame.dynamic.ego_motion", p.dynamic.ego_motion_ms / 1000.0,
@@ -154,13 +164,38 @@ std::optional<Eigen::Isometry3d> SemanticMapper::predictPose(uint64_t frameId) c
     return T;
 }
 
+void SemanticMapper::rememberFrameTime(double timestamp)
+{
+    frameTimes_.emplace_back(framesTracked_, timestamp);
+    const double keep_s = params_.semanticEvidence.max_mask_age_s + kLabelHistoryMargin_s;
+    while (frameTimes_.size() > 1 && timestamp - frameTimes_.front().second > keep_s)
+        frameTimes_.pop_front();
+}
+
+std::optional<uint64_t> SemanticMapper::newestFrameAtOrBefore(double timestamp) const
+{
+    for (auto it = frameTimes_.rbegin(); it != frameTimes_.rend(); ++it)
+        if (it->second <= timestamp + core::kTimeTolerance_s)
+            return it->first;
+    return std::nullopt;
+}
+
+std::optional<double> SemanticMapper::frameTime(uint64_t frameId) const
+{
+    for (const auto& [id, t] : frameTimes_)
+        if (id == frameId)
+            return t;
+    return std::nullopt;
+}
+
 std::vector<bool> SemanticMapper::movableKeypoints(const PreparedFrame& frame,
-                                                   const MaskBoard::MaskPtr& mask, uint64_t age)
+                                                   const MaskBoard::MaskPtr& mask, double age_s)
 {
     // Every frame joins the label tracker, so that labels can follow people from the next mask.
     const auto& kps = frame.features.features.keypoints;
     dynamic::MovableLabelTracker::FrameTracks tracks;
     tracks.frameId = framesTracked_;
+    tracks.timestamp = frame.rgbd.timestamp;
     tracks.framesBack = frame.dynamic.framesBack;
     tracks.keypoints.reserve(kps.size());
     tracks.inReference.assign(kps.size(), cv::Point2f(-1.0F, -1.0F));
@@ -198,8 +233,8 @@ std::vector<bool> SemanticMapper::movableKeypoints(const PreparedFrame& frame,
     if (T_world_cam)
     {
         const dynamic::SemanticEvidenceParameters& se = params_.semanticEvidence;
-        const double grown = std::min(
-            se.max_dilation_px, se.dilation_px + se.age_dilation_px * static_cast<double>(age));
+        const double grown =
+            std::min(se.max_dilation_px, se.dilation_px + se.age_dilation_px_per_s * age_s);
         if (stillMask_ && !stillMask_->empty())
             evidence.grown = stillMask_->project(*T_world_cam, frame.rgbd.camera, grown);
         if (clearlyStillMask_ && !clearlyStillMask_->empty())
@@ -238,19 +273,28 @@ void SemanticMapper::applySemanticEvidence(PreparedFrame& frame, FrameResult& r)
     const dynamic::SemanticEvidenceParameters& se = params_.semanticEvidence;
     if (!semanticEvidenceOn())
         return;
-    const auto latency = static_cast<uint64_t>(se.mask_latency);
+    const double now = frame.rgbd.timestamp;
+    rememberFrameTime(now);
+    const bool wait = se.mask_latency_s > 0.0;
+    const std::optional<uint64_t> upTo =
+        wait ? newestFrameAtOrBefore(now - se.mask_latency_s) : framesTracked_;
     MaskBoard::Lookup lookup;
-    if (framesTracked_ >= latency)
-        lookup = maskBoard_.newest(framesTracked_ - latency, latency > 0);
+    if (upTo)
+        lookup = maskBoard_.newest(*upTo, wait);
     r.mask_wait_ms = lookup.wait_ms;
     profiler_.registerUserMeasure("frame.mask_wait", r.mask_wait_ms / 1000.0, true);
-    if (lookup.mask &&
-        framesTracked_ - lookup.mask->frameId() > static_cast<uint64_t>(se.max_mask_age))
-        lookup.mask.reset();
-    const uint64_t age = lookup.mask ? framesTracked_ - lookup.mask->frameId() : 0;
+    std::optional<double> maskTime;
     if (lookup.mask)
-        r.maskAge = age;
-    const std::vector<bool> movable = movableKeypoints(frame, lookup.mask, age);
+        maskTime = frameTime(lookup.mask->frameId());
+    if (lookup.mask && (!maskTime || now - *maskTime > se.max_mask_age_s + core::kTimeTolerance_s))
+        lookup.mask.reset();
+    double age_s = 0.0;
+    if (lookup.mask)
+    {
+        r.maskAge = framesTracked_ - lookup.mask->frameId();
+        age_s = now - *maskTime;
+    }
+    const std::vector<bool> movable = movableKeypoints(frame, lookup.mask, age_s);
     markMovable(movable, frame, r);
 }
 

@@ -6,6 +6,7 @@
 #include <mutex>
 #include <set>
 
+#include "smap/core/RecordingTime.h"
 #include "smap/features/DescriptorMatcher.h"
 #include "smap/slam/Frame.h"
 #include "smap/slam/Map.h"
@@ -100,7 +101,7 @@ std::vector<std::pair<std::shared_ptr<KeyFrame>, int>> LoopDetector::candidates(
         // of the map is joined by tracking (Map::mergePart), not by a loop.
         const auto it = map.keyframes().find(s.keyframeId);
         if (s.matches < params_.min_matches || it == map.keyframes().end() || it->second->isBad() ||
-            it->second->frameId() + static_cast<uint64_t>(params_.min_frame_gap) > kf.frameId() ||
+            !core::reached(kf.timestamp() - it->second->timestamp(), params_.min_age_s) ||
             it->second->part() != kf.part())
             continue;
         out.emplace_back(it->second, s.matches);

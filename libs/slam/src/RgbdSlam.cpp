@@ -13,12 +13,12 @@ namespace smap::slam
 {
 namespace
 {
-/// [tracking] revisit_max_frames = -1 follows loop closing: tracking joins the places loop
-/// closing does not look at (younger than min_frame_gap), or every place when it is off.
+/// [tracking] revisit_max_age_s = -1 follows loop closing: tracking joins the places loop
+/// closing does not look at (younger than min_age_s), or every place when it is off.
 TrackerParameters resolveRevisitAge(TrackerParameters tracking, const LoopClosingParameters& loop)
 {
-    if (tracking.revisit_max_frames < 0)
-        tracking.revisit_max_frames = loop.enabled ? loop.min_frame_gap : 0;
+    if (tracking.revisit_max_age_s < 0.0)
+        tracking.revisit_max_age_s = loop.enabled ? loop.min_age_s : 0.0;
     return tracking;
 }
 }  // namespace

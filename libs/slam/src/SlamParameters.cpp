@@ -32,16 +32,16 @@ core::OptionFields TrackerParameters::fields(const std::string& section)
         .add("min_matches_motion", min_matches_motion)
         .add("min_inliers", min_inliers)
         .add("min_inliers_after_relocalisation", min_inliers_after_relocalisation)
-        .add("keyframe_max_frames", keyframe_max_frames)
-        .add("keyframe_min_frames", keyframe_min_frames)
+        .add("keyframe_max_interval_s", keyframe_max_interval_s)
+        .add("keyframe_min_interval_s", keyframe_min_interval_s)
         .add("keyframe_ref_ratio", keyframe_ref_ratio)
         .add("revisit_radius", revisit_radius)
-        .add("revisit_max_frames", revisit_max_frames)
-        .add("carried_search_frames", carried_search_frames)
+        .add("revisit_max_age_s", revisit_max_age_s)
+        .add("carried_search_s", carried_search_s)
         .add("carried_min_inliers", carried_min_inliers)
         .add("relocalisation_candidates", relocalisation_candidates)
         .add("relocalisation_sweep", relocalisation_sweep)
-        .add("reanchor_after", reanchor_after)
+        .add("reanchor_after_s", reanchor_after_s)
         .add("reanchor_min_points", reanchor_min_points)
         .add("fallback_weight", fallback_weight)
         .add("fallback_max_jump", fallback_max_jump)
@@ -70,31 +70,31 @@ void TrackerParameters::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
     requirePositive(local_search_radius, s, "local_search_radius");
     requirePositive(init_min_points, s, "init_min_points");
     requirePositive(min_inliers, s, "min_inliers");
-    requirePositive(keyframe_max_frames, s, "keyframe_max_frames");
-    if (keyframe_min_frames < 0)
-        throw core::InputError(
-            mrpt::format("[tracking] keyframe_min_frames = %d must be >= 0", keyframe_min_frames));
+    requirePositive(keyframe_max_interval_s, s, "keyframe_max_interval_s");
+    if (!(keyframe_min_interval_s >= 0.0))
+        throw core::InputError(mrpt::format("[tracking] keyframe_min_interval_s = %g must be >= 0",
+                                            keyframe_min_interval_s));
     if (!(keyframe_ref_ratio > 0.0 && keyframe_ref_ratio <= 1.0))
         throw core::InputError(mrpt::format("[tracking] keyframe_ref_ratio = %g must be in (0, 1]",
                                             keyframe_ref_ratio));
     if (revisit_radius < 0.0)
         throw core::InputError(
             mrpt::format("[tracking] revisit_radius = %g must be >= 0", revisit_radius));
-    if (revisit_max_frames < -1)
+    if (!(revisit_max_age_s >= 0.0) && revisit_max_age_s != -1.0)
         throw core::InputError(mrpt::format(
-            "[tracking] revisit_max_frames = %d must be >= 0, or -1 (follow loop closing)",
-            revisit_max_frames));
+            "[tracking] revisit_max_age_s = %g must be >= 0, or -1 (follow loop closing)",
+            revisit_max_age_s));
     requirePositive(relocalisation_candidates, s, "relocalisation_candidates");
     requirePositive(carried_min_inliers, s, "carried_min_inliers");
     if (relocalisation_sweep < 0)
         throw core::InputError(mrpt::format("[tracking] relocalisation_sweep = %d must be >= 0",
                                             relocalisation_sweep));
-    if (carried_search_frames < 0)
-        throw core::InputError(mrpt::format("[tracking] carried_search_frames = %d must be >= 0",
-                                            carried_search_frames));
-    if (reanchor_after < 0)
+    if (!(carried_search_s >= 0.0))
         throw core::InputError(
-            mrpt::format("[tracking] reanchor_after = %d must be >= 0", reanchor_after));
+            mrpt::format("[tracking] carried_search_s = %g must be >= 0", carried_search_s));
+    if (!(reanchor_after_s >= 0.0))
+        throw core::InputError(
+            mrpt::format("[tracking] reanchor_after_s = %g must be >= 0", reanchor_after_s));
     requirePositive(reanchor_min_points, s, "reanchor_min_points");
     if (!(fallback_weight >= 0.0 && fallback_weight <= 1.0))
         throw core::InputError(
@@ -174,7 +174,7 @@ core::OptionFields LoopClosingParameters::fields(const std::string& section)
     f.add("enabled", enabled)
         .add("threaded", threaded)
         .add("min_keyframes", min_keyframes)
-        .add("min_frame_gap", min_frame_gap)
+        .add("min_age_s", min_age_s)
         .add("min_matches", min_matches)
         .add("neighbour_score_ratio", neighbour_score_ratio)
         .add("max_candidates", max_candidates)
@@ -208,11 +208,11 @@ void LoopClosingParameters::loadFromConfigFile(const mrpt::config::CConfigFileBa
         throw core::InputError(mrpt::format(
             "[loop_closing] min_correction_m = %g and min_correction_deg = %g must be >= 0",
             min_correction_m, min_correction_deg));
-    if (min_frame_gap < 0 || min_projected_matches < 0 || global_ba_iterations < 0)
+    if (!(min_age_s >= 0.0) || min_projected_matches < 0 || global_ba_iterations < 0)
         throw core::InputError(
-            mrpt::format("[loop_closing] min_frame_gap = %d, min_projected_matches = %d and "
+            mrpt::format("[loop_closing] min_age_s = %g, min_projected_matches = %d and "
                          "global_ba_iterations = %d must be >= 0",
-                         min_frame_gap, min_projected_matches, global_ba_iterations));
+                         min_age_s, min_projected_matches, global_ba_iterations));
 }
 
 void LoopClosingParameters::saveToConfigFile(mrpt::config::CConfigFileBase& cfg,

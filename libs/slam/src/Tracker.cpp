@@ -6,6 +6,7 @@
 #include <set>
 
 #include "smap/core/Elapsed.h"
+#include "smap/core/RecordingTime.h"
 #include "smap/features/DescriptorMatcher.h"
 #include "smap/features/RotationConsistency.h"
 #include "smap/slam/LocalMapper.h"
@@ -153,8 +154,9 @@ std::shared_ptr<KeyFrame> Tracker::trackOnMap(Frame& frame, TrackingResult& resu
     const auto carried = odometryPose(frame);
     std::shared_ptr<KeyFrame> newKf;
     bool reanchored = false;
-    if (!attempt.ok && state_ == TrackerState::Lost && params_.reanchor_after > 0 &&
-        framesLost_ >= params_.reanchor_after && lastTracked_T_cam_world_)
+    if (!attempt.ok && state_ == TrackerState::Lost && params_.reanchor_after_s > 0.0 &&
+        core::reached(frame.timestamp - lostSince_, params_.reanchor_after_s) &&
+        lastTracked_T_cam_world_)
     {
         newKf = reanchor(frame, carried, result);
         reanchored = newKf != nullptr;
@@ -201,7 +203,10 @@ Tracker::Attempt Tracker::trackWhileLost(Frame& frame)
         return {true, false, TrackingFallback::CarriedPose};
     const bool relocalised = relocalise(frame);
     if (relocalised)
+    {
         lastRelocalisationFrameId_ = frame.id;
+        lastRelocalisationTime_ = frame.timestamp;
+    }
     return {relocalised && trackLocalMap(frame), relocalised};
 }
 
@@ -210,13 +215,12 @@ std::shared_ptr<KeyFrame> Tracker::reanchor(Frame& frame,
                                             TrackingResult& result)
 {
     // The pose the outside odometry carried forward; without it, constant velocity from the
-    // last tracked frame for at most reanchor_after frames (a longer extrapolation only adds
-    // error).
+    // last tracked frame for at most reanchor_after_s (a longer extrapolation only adds error).
     Eigen::Isometry3d T = *lastTracked_T_cam_world_;
     if (carried)
         T = *carried;
     else if (velocityAtLoss_)
-        for (int k = 0; k <= std::min(framesLost_, params_.reanchor_after); ++k)
+        for (int k = 0; k < extrapolationSteps(frame); ++k)
             T = *velocityAtLoss_ * T;
     frame.T_cam_world = T;
     frame.clearMatches();
@@ -228,6 +232,7 @@ std::shared_ptr<KeyFrame> Tracker::reanchor(Frame& frame,
     framesLost_ = 0;
     velocity_.reset();
     lastTracked_T_cam_world_ = frame.T_cam_world;
+    lastTrackedTime_ = frame.timestamp;
     result.status = TrackingStatus::Reanchored;
     return reference_;
 }
@@ -250,6 +255,7 @@ std::shared_ptr<KeyFrame> Tracker::acceptTracked(Frame& frame, bool relocalised,
     state_ = TrackerState::Tracking;
     framesLost_ = 0;
     lastTracked_T_cam_world_ = frame.T_cam_world;
+    lastTrackedTime_ = frame.timestamp;
     return newKf;
 }
 
@@ -260,6 +266,8 @@ void Tracker::markLost(const Frame& frame, TrackingResult& result)
         MRPT_LOG_WARN_FMT("tracking lost at frame %lu (t = %.3f)",
                           static_cast<unsigned long>(frame.id), frame.timestamp);
         velocityAtLoss_ = velocity_;
+        velocityIntervalAtLoss_ = velocityInterval_;
+        lostSince_ = frame.timestamp;
     }
     result.status = TrackingStatus::Lost;
     velocity_.reset();
@@ -403,7 +411,7 @@ bool Tracker::anchorKeyFrame(Frame& frame, int min_points, bool newPart)
         mp->updateNormalAndDepth();
     }
     reference_ = kf;
-    lastKeyFrameFrameId_ = frame.id;
+    lastKeyFrameTime_ = frame.timestamp;
     localKeyFrames_ = {kf.get()};
     return true;
 }
@@ -585,7 +593,9 @@ void Tracker::applyPendingMerge()
 
 bool Tracker::trackFromCarriedPose(Frame& frame)
 {
-    if (params_.carried_search_frames <= 0 || framesLost_ >= params_.carried_search_frames)
+    if (params_.carried_search_s <= 0.0 ||
+        (state_ == TrackerState::Lost &&
+         core::reached(frame.timestamp - lostSince_, params_.carried_search_s)))
         return false;
     const auto carried = odometryPose(frame);
     if (!carried)
@@ -699,10 +709,28 @@ void Tracker::joinRevisitedKeyFrames(const Frame& frame, std::set<uint64_t>& inL
     }
 }
 
+bool Tracker::recentlyRelocalised(const Frame& frame) const
+{
+    return lastRelocalisationFrameId_ > 0 &&
+           !core::reached(frame.timestamp - lastRelocalisationTime_,
+                          params_.keyframe_max_interval_s);
+}
+
+int Tracker::extrapolationSteps(const Frame& frame) const
+{
+    // One step of the velocity at the loss per frame interval since the last tracked frame, as
+    // far as reanchor_after_s (and one step more, to the frame itself).
+    if (!(velocityIntervalAtLoss_ > 0.0))
+        return framesLost_ + 1;
+    const double span = std::min(frame.timestamp - lastTrackedTime_,
+                                 params_.reanchor_after_s + velocityIntervalAtLoss_);
+    return std::max(1, static_cast<int>(std::lround(span / velocityIntervalAtLoss_)));
+}
+
 bool Tracker::tooOldForRevisit(const Frame& frame, const KeyFrame& kf) const
 {
-    return params_.revisit_max_frames > 0 &&
-           frame.id > kf.frameId() + static_cast<uint64_t>(params_.revisit_max_frames);
+    return params_.revisit_max_age_s > 0.0 &&
+           frame.timestamp - kf.timestamp() > params_.revisit_max_age_s + core::kTimeTolerance_s;
 }
 
 bool Tracker::trackLocalMap(Frame& frame)
@@ -727,20 +755,18 @@ bool Tracker::trackLocalMap(Frame& frame)
         if (mp->numObservations() > 0)
             inliers++;
     }
-    const bool recentlyRelocalised =
-        lastRelocalisationFrameId_ > 0 &&
-        frame.id < lastRelocalisationFrameId_ + static_cast<uint64_t>(params_.keyframe_max_frames);
-    if (recentlyRelocalised && inliers < params_.min_inliers_after_relocalisation)
+    if (recentlyRelocalised(frame) && inliers < params_.min_inliers_after_relocalisation)
         return false;
     return inliers >= params_.min_inliers;
 }
 
 bool Tracker::needNewKeyFrame(const Frame& frame) const
 {
-    const auto maxFrames = static_cast<uint64_t>(params_.keyframe_max_frames);
+    // ORB-SLAM pauses keyframes after a relocalisation once the map holds more keyframes than
+    // its frame rate (30).
+    constexpr size_t kLargeMapKeyFrames = 30;
     const size_t nKfs = map_.keyframes().size();
-    if (lastRelocalisationFrameId_ > 0 && frame.id < lastRelocalisationFrameId_ + maxFrames &&
-        nKfs > maxFrames)
+    if (recentlyRelocalised(frame) && nKfs > kLargeMapKeyFrames)
         return false;
     // ORB-SLAM counts an RGB-D observation twice; in keyframes its thresholds are 1 and 2.
     const int nMinObs = nKfs <= 2 ? 1 : 2;
@@ -760,9 +786,9 @@ bool Tracker::needNewKeyFrame(const Frame& frame) const
     }
     const bool needClose = trackedClose < 100 && untrackedClose > 70;
     const double refRatio = nKfs < 2 ? 0.4 : params_.keyframe_ref_ratio;
-    const bool c1a = frame.id >= lastKeyFrameFrameId_ + maxFrames;
-    const bool c1b = idle && frame.id >= lastKeyFrameFrameId_ +
-                                             static_cast<uint64_t>(params_.keyframe_min_frames);
+    const double sinceKeyFrame = frame.timestamp - lastKeyFrameTime_;
+    const bool c1a = core::reached(sinceKeyFrame, params_.keyframe_max_interval_s);
+    const bool c1b = idle && core::reached(sinceKeyFrame, params_.keyframe_min_interval_s);
     const bool c1c = inliers < 0.25 * refMatches || needClose;
     const bool c2 = (inliers < refRatio * refMatches || needClose) && inliers > 15;
     if (!((c1a || c1b || c1c) && c2))
@@ -808,7 +834,7 @@ std::shared_ptr<KeyFrame> Tracker::createKeyFrame(Frame& frame)
             break;
     }
     reference_ = kf;
-    lastKeyFrameFrameId_ = frame.id;
+    lastKeyFrameTime_ = frame.timestamp;
     return kf;
 }
 }  // namespace smap::slam

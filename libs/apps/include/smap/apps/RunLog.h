@@ -39,8 +39,9 @@ public:
 
     /// frames.csv: the frame statistics, then status, keypoints, inliers, keyframe, timings,
     /// and a note: every frame of the input in order, a skipped one with status `skipped`, no
-    /// figures and the file and reason in its note.
-    std::string framesCsv() const;
+    /// figures and the file and reason in its note. `timings` false: the timing columns empty
+    /// (reproducible runs: they measure the machine).
+    std::string framesCsv(bool timings) const;
     /// Sets "frames", "frames_skipped", "skipped" (the first 20: index, file, reason),
     /// "duration_s", "mean_valid_depth_fraction" and "camera" in `metrics`.
     void describeInput(core::JsonValue& metrics) const;

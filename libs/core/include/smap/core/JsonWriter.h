@@ -32,6 +32,13 @@ public:
     JsonValue& set(const std::string& key, const char* v) { return set(key, string(v)); }
     JsonValue& set(const std::string& key, bool v) { return set(key, boolean(v)); }
     JsonValue& push(JsonValue v);
+    /// An object's member (nullptr when it has none of that name).
+    JsonValue* find(const std::string& key);
+    /// Removes an object's member, if present; returns *this for chaining.
+    JsonValue& erase(const std::string& key);
+    /// An array's items.
+    size_t size() const { return items_.size(); }
+    JsonValue& at(size_t i) { return items_.at(i); }
 
     std::string dump(int indent = 2) const;
 

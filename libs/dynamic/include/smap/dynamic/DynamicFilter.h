@@ -1,4 +1,4 @@
-// The dynamic feature filter (METHOD.md section 2): per keypoint of the current frame, the
+// The dynamic feature filter (docs/method.md section 2): per keypoint of the current frame, the
 // residual optical flow after compensating the camera's own motion, and the decision
 // "dynamic" that removes it from tracking (weight 0). Keeps the previous frame between calls.
 #pragma once
@@ -80,13 +80,14 @@ public:
     DynamicFilter(DynamicFilter&&) noexcept;
     DynamicFilter& operator=(DynamicFilter&&) noexcept;
 
-    /// Classifies the keypoints of a frame (colour BGR or grey, depth in metres, features
-    /// with undistorted keypoints and depth) and remembers it as the previous frame. The first
-    /// frame, and every frame in mode "off", has no dynamic keypoints. The filter keeps
-    /// `depth` for the next frames without copying it (cv::Mat shares the pixels): do not
-    /// write into it afterwards.
+    /// Classifies the keypoints of a frame taken at `timestamp` (s, increasing; colour BGR or
+    /// grey, depth in metres, features with undistorted keypoints and depth) and remembers it
+    /// as the previous frame. The first frame, and every frame in mode "off", has no dynamic
+    /// keypoints. The filter keeps `depth` for the next frames without copying it (cv::Mat
+    /// shares the pixels): do not write into it afterwards.
     DynamicResult process(const cv::Mat& colour, const cv::Mat& depth,
-                          const features::FeatureSet& features, const core::PinholeCamera& camera);
+                          const features::FeatureSet& features, const core::PinholeCamera& camera,
+                          double timestamp);
     /// Strong mode, when more than extraction_priority_above of the last processed frame's
     /// keypoints were dynamic: where they were mostly dynamic, as a CV_8UC1 mask of 8 px
     /// cells (non-zero: a cell whose 5 x 5 neighbourhood held at least two keypoints, more
@@ -104,7 +105,12 @@ private:
 
     /// Keeps the frame for the next ones (at most `keep`).
     void remember(const cv::Mat& grey, const cv::Mat& depth, const features::FeatureSet& features,
-                  const DynamicResult& result, size_t keep);
+                  const DynamicResult& result, size_t keep, double timestamp);
+    /// Strong mode: forgets the kept frames older than the newest one at least frame_gap_s
+    /// before `timestamp`, which becomes the reference (the front).
+    void dropFramesBeforeGap(double timestamp);
+    /// Frames kept at most (strong mode), whatever the timestamps say.
+    static constexpr size_t kMaxHistory = 30;
 
     DynamicParameters params_;
     std::unique_ptr<State> state_;

@@ -1,5 +1,5 @@
 // Options of the dynamic feature filter ([dynamic] section), loaded once from the
-// configuration. The paper mode's values are the paper's (METHOD.md section 2).
+// configuration. The paper mode's values are the paper's (docs/method.md section 2).
 #pragma once
 
 #include <mrpt/config/CLoadableOptions.h>
@@ -35,10 +35,12 @@ struct DynamicParameters : public mrpt::config::CLoadableOptions
     double match_radius = 80.0;
 
     // Strong mode only.
-    /// Compare each frame with the one this many frames back (1 = the previous frame, as the
-    /// paper): slow movers and people walking towards the camera move little between
-    /// consecutive frames, and a wider gap multiplies their residual flow and depth change.
-    int frame_gap = 2;
+    /// Compare each frame with the newest earlier one at least this much older (s; at most the
+    /// previous frame, as the paper, when its frames are that far apart): slow movers and
+    /// people walking towards the camera move little between consecutive frames, and a wider
+    /// gap multiplies their residual flow and depth change. 0.05 s: two frames back at 30
+    /// frames/s, one at 15.
+    double frame_gap_s = 0.05;
     /// Lucas-Kanade window (px) and pyramid levels of the strong mode: its flow starts at the
     /// ego-motion prediction, so static points need no search, and a small window mixes
     /// less of a nearby mover into background points.
@@ -50,7 +52,7 @@ struct DynamicParameters : public mrpt::config::CLoadableOptions
     int ego_max_queries = 250;
     /// Constant-velocity gate on the ego-motion: a RANSAC pose that differs from the previous
     /// frame's motion by more than this (m, degrees) is a hand-held camera's impossible jump
-    /// in frame_gap frames, usually movers outvoting the background; the previous motion is
+    /// in frame_gap_s, usually movers outvoting the background; the previous motion is
     /// kept instead (and refined by the flow), unless it has under a quarter of the RANSAC
     /// pose's support (then the prior was the wrong one). 0 = no gate.
     double ego_gate_translation = 0.03;

@@ -33,14 +33,16 @@ public:
         Moving
     };
 
-    /// Keeps the last `keep` frames (at least the masks' largest age plus the filter's gap). A
-    /// keypoint farther than `depthMargin` (m) behind the nearest movable keypoint its track
-    /// reaches is static.
-    MovableLabelTracker(size_t keep, double depthMargin);
+    /// Keeps the frames of the last `keep_s` seconds (at least the masks' largest age plus the
+    /// filter's gap; at most kMaxKept frames). A keypoint farther than `depthMargin` (m)
+    /// behind the nearest movable keypoint its track reaches is static.
+    MovableLabelTracker(double keep_s, double depthMargin);
+    static constexpr size_t kMaxKept = 1000;
 
     struct FrameTracks
     {
         uint64_t frameId = 0;
+        double timestamp = 0.0;   ///< s
         uint64_t framesBack = 0;  ///< the reference frame is frameId - framesBack (0: none)
         std::vector<cv::Point2f> keypoints;    ///< pixel positions
         std::vector<cv::Point2f> inReference;  ///< per keypoint; negative: not tracked
@@ -74,7 +76,7 @@ private:
     void labelFromReference(Kept& frame) const;
     const Kept* find(uint64_t frameId) const;
 
-    size_t keep_;
+    double keep_s_;
     float depthMargin_;
     std::deque<Kept> frames_;
 };

@@ -31,7 +31,7 @@ struct MovableEvidence
 /// - no label (Unknown): whether it lies inside `grown`;
 /// - a static label on a keypoint the flow test found still: whether it lies inside `still`. A
 ///   person who stands still stays where the pose puts them, while the labels, handed on from
-///   keypoint to keypoint every frame_gap frames by a majority of the still ones around, lose
+///   keypoint to keypoint every frame_gap_s by a majority of the still ones around, lose
 ///   a person who sways (their moving keypoints do not count);
 /// - else its label.
 std::vector<bool> movableVerdicts(const MovableEvidence& evidence);

@@ -20,16 +20,17 @@ struct SemanticEvidenceParameters : public mrpt::config::CLoadableOptions
     /// Movable classes: dynamic prior (labels CSV) at least this (person 0.9).
     double movable_prior = 0.5;
     /// 0 (the default): each frame uses the newest mask that is ready and never waits for the
-    /// segmentation; which mask that is depends on the threads' timing. N > 0: a keyframe's
-    /// mask is used from N frames after the keyframe on, and the frame at that point waits for
-    /// a late segmentation, so that a run gives the same result every time (tests, A/B).
-    int mask_latency = 0;
-    /// A mask older than this (frames) is not used.
-    int max_mask_age = 60;
-    /// The warped mask grows by dilation_px plus age_dilation_px per frame of its age (people
-    /// move while the mask ages), at most max_dilation_px.
+    /// segmentation; which mask that is depends on the threads' timing. T > 0 (s): a
+    /// keyframe's mask is used by the frames at least T after the keyframe, and the first of
+    /// them waits for a late segmentation, so that a run gives the same result every time
+    /// ([pipeline] reproducible sets it when it is 0).
+    double mask_latency_s = 0.0;
+    /// A mask older than this (s) is not used.
+    double max_mask_age_s = 2.0;
+    /// The warped mask grows by dilation_px plus age_dilation_px_per_s per second of its age
+    /// (people move while the mask ages), at most max_dilation_px.
     double dilation_px = 12.0;
-    double age_dilation_px = 1.0;
+    double age_dilation_px_per_s = 30.0;
     double max_dilation_px = 40.0;
     /// A keypoint in the grown mask, or labelled movable along its track, is movable only
     /// within this depth (m) of the nearest movable sample around it: the growth takes in a

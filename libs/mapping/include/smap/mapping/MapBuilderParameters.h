@@ -40,9 +40,9 @@ struct MapBuilderParameters : public mrpt::config::CLoadableOptions
     /// some). 0 or 1 = off.
     int confirm_near_movers = 2;
     double confirm_radius = 0.05;  ///< m: the voxel of the test, which looks at 27 of them
-    /// Frames the confirming keyframes must span at least (first to last): a person standing
+    /// Time (s) the confirming keyframes must span at least (first to last): a person standing
     /// or walking slowly is at the same place in keyframes made shortly after one another.
-    int confirm_span = 15;
+    double confirm_span_s = 0.5;
     /// A confirmation also needs a keyframe to have put a point within confirm_radius of it
     /// with none of its own movers within about this distance (m; a voxel test over 27 voxels
     /// of this edge): a person who walks the same line again, or turns round, puts a part that
@@ -62,7 +62,7 @@ struct MapBuilderParameters : public mrpt::config::CLoadableOptions
     /// there. Off: the newest view alone decides.
     bool see_through_majority = true;
     /// A person who stands still is still a person: at the end of the run, a keyframe's point
-    /// within this distance (m) of where keyframes made confirm_span frames or more apart saw
+    /// within this distance (m) of where keyframes made confirm_span_s or more apart saw
     /// the body of a movable-class object leaves the maps, though that keyframe's own
     /// segmentation missed the person (a back seen from behind, a head cut by the image's
     /// edge). A body is the pixels segmentation gave a class whose dynamic prior is at least

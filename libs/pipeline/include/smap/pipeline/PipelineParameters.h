@@ -29,6 +29,12 @@ struct PipelineParameters : public mrpt::config::CLoadableOptions
     /// Threads of OpenCV's parallel framework (cv::setNumThreads), set once before the first
     /// frame: it overrides [onnx] threads; 0 = leave it as the segmenter set it.
     int opencv_threads = 2;
+    /// Byte-identical outputs run to run: local mapping and loop closing on the tracking
+    /// thread, semantic evidence from masks of a fixed latency, every keyframe mapped
+    /// (SemanticMapperParameters::applyReproducibleMode), and no figures of the machine
+    /// (timings, memory, queue levels) in metrics.json or frames.csv. false (the default):
+    /// real time, and runs may differ by what the threads' timing decides.
+    bool reproducible = false;
 
     // [output]
     /// Annotated rawlog: one CObservationSemanticRGBD per keyframe.

@@ -121,7 +121,13 @@ private:
     /// predicted pose; a still keypoint on a clearly still person of the mask even when its
     /// track carried a static label.
     std::vector<bool> movableKeypoints(const PreparedFrame& frame, const MaskBoard::MaskPtr& mask,
-                                       uint64_t age);
+                                       double age_s);
+    /// The recent frames' timestamps (tracker id, s), for mask latency and age in seconds.
+    void rememberFrameTime(double timestamp);
+    std::optional<uint64_t> newestFrameAtOrBefore(double timestamp) const;
+    std::optional<double> frameTime(uint64_t frameId) const;
+    /// s kept beyond the masks' largest age (label tracks, frame times).
+    static constexpr double kLabelHistoryMargin_s = 0.15;
     /// A new mask: stillMask_ and clearlyStillMask_ from the flow test's verdicts on its
     /// keyframe.
     void keepStillParts(const MaskBoard::MaskPtr& mask);
@@ -148,6 +154,7 @@ private:
     uint64_t framesTracked_ = 0;  ///< = the tracker's id of the next frame
     /// The last tracked poses (tracker frame id, T_world_cam), newest last.
     std::deque<std::pair<uint64_t, Eigen::Isometry3d>> recentPoses_;
+    std::deque<std::pair<uint64_t, double>> frameTimes_;  ///< oldest first
     uint64_t keyframes_ = 0;
     mrpt::system::CTimeLogger profiler_;
 };

@@ -29,6 +29,15 @@ struct SemanticMapperParameters
     mapping::MapBuilderParameters map;
     PipelineParameters pipeline;
 
+    /// [pipeline] reproducible = true: the keys whose effect depends on the threads' timing
+    /// take their deterministic values (local mapping and loop closing on the tracking thread,
+    /// [semantic_evidence] mask_latency_s = kReproducibleMaskLatency_s unless set, keyframe
+    /// queue full: wait). Nothing changes when it is false. Idempotent.
+    void applyReproducibleMode();
+    /// s: the mask latency of reproducible runs (3 frames at 30 frames/s): the segmentation
+    /// of a keyframe usually ends within it, so that tracking seldom waits.
+    static constexpr double kReproducibleMaskLatency_s = 0.1;
+
     /// The parts, in the order the configuration reference lists them.
     std::vector<mrpt::config::CLoadableOptions*> parts()
     {

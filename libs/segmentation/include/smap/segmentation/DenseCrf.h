@@ -13,7 +13,7 @@
 
 namespace smap::segmentation
 {
-/// [crf] section. Defaults: the dense-CRF literature's (METHOD.md section 3), except
+/// [crf] section. Defaults: the dense-CRF literature's (docs/method.md section 3), except
 /// appearance_xy = 20 px (literature 80, for ~500 px wide images), tuned on 7-Scenes with
 /// composited people at 320x240 (docs/segmentation.md).
 struct DenseCrfParameters : public mrpt::config::CLoadableOptions

@@ -29,25 +29,27 @@ struct TrackerParameters : public mrpt::config::CLoadableOptions
     int min_matches_motion = 20;       ///< motion-model matches before optimisation
     int min_inliers = 30;              ///< inliers that keep tracking "ok"
     int min_inliers_after_relocalisation = 50;
-    int keyframe_max_frames = 30;  ///< a keyframe at least this often (frames)
-    /// While tracking is strong, no new keyframe within this many frames of the last one (the
+    /// A keyframe at least this often (s of the recording's time; ORB-SLAM: its frame rate in
+    /// frames, one second).
+    double keyframe_max_interval_s = 1.0;
+    /// While tracking is strong, no new keyframe within this time (s) of the last one (the
     /// deterministic stand-in for ORB-SLAM's "local mapping is busy"; 0: as soon as needed).
-    /// keyframe_max_frames still forces one, and weak tracking still makes one at once.
-    int keyframe_min_frames = 15;
+    /// keyframe_max_interval_s still forces one, and weak tracking still makes one at once.
+    double keyframe_min_interval_s = 0.5;
     double keyframe_ref_ratio = 0.75;  ///< tracked / reference-keyframe points that asks for one
     /// Keyframes within this distance (m) of the camera, looking the same way, join the local
     /// map even without shared points (revisits); 0 disables.
     double revisit_radius = 0.5;
-    /// Only keyframes made at most this many frames before join as revisits; older places are
+    /// Only keyframes made at most this long (s) before join as revisits; older places are
     /// left to loop closing, which corrects the drift before joining them. 0: any age; -1:
-    /// [loop_closing] min_frame_gap when loop closing is on, else any age (RgbdSlam resolves it).
-    int revisit_max_frames = -1;
-    /// A frame that no other stage tracks, and for this many frames after a loss a lost frame
+    /// [loop_closing] min_age_s when loop closing is on, else any age (RgbdSlam resolves it).
+    double revisit_max_age_s = -1.0;
+    /// A frame that no other stage tracks, and for this long (s) after a loss a lost frame
     /// before relocalisation, is searched in the local map from the pose the outside odometry
     /// carried it to (Frame::odometry_T_cam_earlier, chained over lost frames): the last
     /// fallback (TrackingFallback::CarriedPose), min_inliers to succeed (carried_min_inliers
     /// for a lost frame). 0 disables it.
-    int carried_search_frames = 30;
+    double carried_search_s = 1.0;
     /// Inliers a lost frame needs to be placed from the carried pose (a frame still tracking
     /// needs min_inliers): chained over several lost frames the odometry can be centimetres
     /// off, and the search then finds chance matches enough to settle on a wrong pose that the
@@ -58,20 +60,20 @@ struct TrackerParameters : public mrpt::config::CLoadableOptions
     /// a further slice on each lost frame in a row (wrapping), so that an outage tries every
     /// keyframe in turn, however its thumbnail ranks. 0 disables.
     int relocalisation_sweep = 5;
-    /// After this many lost frames in a row that relocalisation could not place, the next frame
+    /// Lost for this long (s) without relocalisation placing a frame, the next frame
     /// with reanchor_min_points keypoints shown static with depth re-anchors: it starts a new
     /// part of the map (KeyFrame::part), as a keyframe at the pose predicted by the outside
     /// odometry (Frame::odometry_T_cam_earlier) or else by the last tracked frame's velocity
-    /// (at most reanchor_after frames ahead), its depth gives new points, and tracking goes on
+    /// (at most reanchor_after_s ahead), its depth gives new points, and tracking goes on
     /// from there (status "reanchored"). The camera has then usually moved where the map
     /// cannot place it. Every tracked frame of the new part is also relocalised among the
     /// other parts' keyframes; where one is placed, the newer part moves rigidly into the
     /// older one's frame and they become one (Map::mergePart). A part that never meets the
     /// rest again is dropped at the end with its frames' poses, unless it poses the most
     /// frames (RgbdSlam::finish). 0 = never (lost until relocalised, as ORB-SLAM2). The
-    /// default waits 30 frames (a second at 30 frames/s): a part started at once begins amid
-    /// what lost tracking (people filling the view) and tracks poorly (docs/tracking.md).
-    int reanchor_after = 30;
+    /// default waits a second: a part started at once begins amid what lost tracking (people
+    /// filling the view) and tracks poorly (docs/tracking.md).
+    double reanchor_after_s = 1.0;
     /// Keypoints shown static with depth that a frame needs to re-anchor (its points start the
     /// new part of the map).
     int reanchor_min_points = 100;
@@ -138,9 +140,9 @@ struct LoopClosingParameters : public mrpt::config::CLoadableOptions
     /// local mapping is synchronous too.
     bool threaded = true;
     int min_keyframes = 10;  ///< keyframes in the map before detection starts
-    /// Candidates: keyframes at least this many frames older than the new one (covisible with
+    /// Candidates: keyframes at least this much older (s) than the new one (covisible with
     /// it or not: tracking links a place it comes back to when the drift is small) ...
-    int min_frame_gap = 300;
+    double min_age_s = 10.0;
     /// ... whose indexed descriptors hold a copy (within 50 bits) of at least this many of the
     /// new keyframe's ...
     int min_matches = 40;

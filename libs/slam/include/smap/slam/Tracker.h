@@ -53,7 +53,7 @@ enum class TrackingFallback
     StillMovable,
     /// The local map searched from the pose the outside odometry carried the frame to (the
     /// dynamic filter's ego-motion, chained over lost frames): where the motion model and the
-    /// reference keyframe find too few matches, or after a loss ([tracking] carried_search_frames).
+    /// reference keyframe find too few matches, or after a loss ([tracking] carried_search_s).
     CarriedPose,
 };
 /// "", "raised_weights", "still_movable", "carried_pose" (frames.csv's fallback column).
@@ -143,7 +143,7 @@ private:
     std::shared_ptr<KeyFrame> trackOnMap(Frame& frame, TrackingResult& result);
     Attempt trackWhileTracking(Frame& frame);
     Attempt trackWhileLost(Frame& frame);
-    /// Lost for reanchor_after frames: a new keyframe at the carried or extrapolated pose.
+    /// Lost for reanchor_after_s: a new keyframe at the carried or extrapolated pose.
     std::shared_ptr<KeyFrame> reanchor(Frame& frame,
                                        const std::optional<Eigen::Isometry3d>& carried,
                                        TrackingResult& result);
@@ -172,7 +172,7 @@ private:
     bool relocalise(Frame& frame);
     /// The CarriedPose stage: the local map (of the loss, when lost) searched from the pose the
     /// outside odometry carried the frame to; false without such a pose, past
-    /// carried_search_frames lost frames, or with too few inliers: min_inliers while tracking,
+    /// carried_search_s of lost frames, or with too few inliers: min_inliers while tracking,
     /// carried_min_inliers for a lost frame.
     bool trackFromCarriedPose(Frame& frame);
     /// Adds `frame` as a keyframe at its current pose with points from its depth (the first
@@ -202,10 +202,14 @@ private:
     std::optional<Frame> last_;
     std::optional<Eigen::Isometry3d> velocity_;  ///< T_cam_lastcam of the last step
     double velocityInterval_ = 0.0;              ///< s, the time velocity_ spans
-    /// Re-anchoring: the last frame with a pose, the velocity then, frames lost since.
+    /// Re-anchoring: the last frame with a pose and its time, the velocity then (and the time
+    /// it spans), frames lost since and the time of the first of them (s).
     std::optional<Eigen::Isometry3d> lastTracked_T_cam_world_;
+    double lastTrackedTime_ = 0.0;
     std::optional<Eigen::Isometry3d> velocityAtLoss_;
+    double velocityIntervalAtLoss_ = 0.0;
     int framesLost_ = 0;
+    double lostSince_ = 0.0;
     /// T_cam_world of the last frames (tracked, or carried by outside odometry while lost).
     std::deque<std::pair<uint64_t, Eigen::Isometry3d>> recentPoses_;
     std::optional<Eigen::Isometry3d> odometryPose(const Frame& frame) const;
@@ -227,8 +231,13 @@ private:
     /// The map's corrections, and the reference keyframe's pose, at the last frame.
     uint64_t correctionsSeen_ = 0;
     Eigen::Isometry3d T_reference_world_seen_ = Eigen::Isometry3d::Identity();
-    uint64_t lastKeyFrameFrameId_ = 0;
+    double lastKeyFrameTime_ = 0.0;  ///< s, the newest keyframe's frame
     uint64_t lastRelocalisationFrameId_ = 0;
+    double lastRelocalisationTime_ = 0.0;
+    /// Within keyframe_max_interval_s of a relocalisation (ORB-SLAM's "mMaxFrames").
+    bool recentlyRelocalised(const Frame& frame) const;
+    /// Steps of the velocity at the loss that carry the last tracked pose to `frame`.
+    int extrapolationSteps(const Frame& frame) const;
     std::vector<KeyFrame*> localKeyFrames_;
     /// Points of the local keyframes that the frame has not matched yet (the search's candidates).
     std::vector<std::shared_ptr<MapPoint>> localPoints_;
