@@ -1,4 +1,4 @@
-// The dynamic filter as the paper describes it (METHOD.md section 2): five-point ego-motion,
+// The dynamic filter as the paper describes it (docs/method.md section 2): five-point ego-motion,
 // the previous frame warped into the current view, Lucas-Kanade flow, tau. Private to
 // libs/dynamic.
 #pragma once

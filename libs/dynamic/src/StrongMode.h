@@ -1,5 +1,5 @@
-// The dynamic filter's strong mode (METHOD.md section 2, beyond the paper): depth-aided
-// ego-motion against a frame frame_gap back, refined on the flow, predicted keypoints tracked
+// The dynamic filter's strong mode (docs/method.md section 2, beyond the paper): depth-aided
+// ego-motion against a frame frame_gap_s back, refined on the flow, predicted keypoints tracked
 // with Lucas-Kanade, adaptive tau, depth and temporal evidence, region growing; its steps are
 // in StrongModeSteps. Private to libs/dynamic.
 #pragma once

@@ -1,4 +1,4 @@
-// The building blocks of the dynamic filter's strong mode (METHOD.md section 2, "beyond the
+// The building blocks of the dynamic filter's strong mode (docs/method.md section 2, "beyond the
 // paper"): depth hypotheses per keypoint, their prediction into the reference frame, the
 // ego-motion refined on the Lucas-Kanade tracks, the residuals, and the decision (adaptive tau,
 // isolated flow, region growing). Private to libs/dynamic.

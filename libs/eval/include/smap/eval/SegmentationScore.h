@@ -1,4 +1,4 @@
-// The paper's Table III frame-level segmentation scores (METHOD.md section 5) and per-class
+// The paper's Table III frame-level segmentation scores (docs/method.md section 5) and per-class
 // IoU. Per frame and class: the class is present in the ground truth or not, and correctly
 // segmented (IoU >= iou_threshold) or predicted at all. TP: present and correctly segmented;
 // FN: present, not correctly segmented; FP: absent but predicted; TN: absent, not predicted.

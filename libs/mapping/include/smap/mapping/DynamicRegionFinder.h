@@ -1,5 +1,5 @@
-// The paper's Algorithm 1 (METHOD.md section 4): a keyframe's pixels split into dynamic (M) and
-// static (N) from its labelled image, its depth and the dynamic feature points S.
+// The paper's Algorithm 1 (docs/method.md section 4): a keyframe's pixels split into dynamic (M)
+// and static (N) from its labelled image, its depth and the dynamic feature points S.
 //   1. A segmented object (connected region of one class) carrying more than Num dynamic
 //      points is dynamic as a whole.
 //   2. Around every other dynamic point p, a pixel closer than sigma2 in the image AND closer

@@ -1,5 +1,5 @@
-// Back-projection of a keyframe's static pixels into the world (METHOD.md eq. 5): pixel (u, v)
-// with depth z -> X_cam = ((u - cx) z / fx, (v - cy) z / fy, z) (distortion undone first when
+// Back-projection of a keyframe's static pixels into the world (docs/method.md, eq. 5): pixel (u,
+// v) with depth z -> X_cam = ((u - cx) z / fx, (v - cy) z / fy, z) (distortion undone first when
 // the camera has any), X_world = T_world_cam X_cam, with colour, label and class probability.
 #pragma once
 
