@@ -17,7 +17,22 @@ install(FILES "${PROJECT_BINARY_DIR}/semantic_mapperConfig.cmake"
     "${PROJECT_BINARY_DIR}/semantic_mapperConfigVersion.cmake"
     DESTINATION "${SMAP_CMAKE_DIR}")
 
-install(FILES "${PROJECT_SOURCE_DIR}/README.md" DESTINATION "${CMAKE_INSTALL_DOCDIR}")
+install(FILES "${PROJECT_SOURCE_DIR}/README.md" "${PROJECT_SOURCE_DIR}/LICENSE"
+    "${PROJECT_SOURCE_DIR}/THIRD_PARTY_NOTICES.md" DESTINATION "${CMAKE_INSTALL_DOCDIR}")
+
+# The Debian copyright file (machine-readable format): our licence and the shipped model's and
+# person cut-outs' (THIRD_PARTY_NOTICES.md), each licence text indented as the format wants.
+function(smap_debian_licence_text path out)
+    file(READ "${path}" text)
+    string(REGEX REPLACE "\n+$" "" text "${text}")
+    string(REGEX REPLACE "\n\n" "\n.\n" text "${text}")
+    string(REGEX REPLACE "\n" "\n " text "${text}")
+    set(${out} " ${text}" PARENT_SCOPE)
+endfunction()
+smap_debian_licence_text("${PROJECT_SOURCE_DIR}/LICENSE" BSD_TEXT)
+smap_debian_licence_text("${PROJECT_SOURCE_DIR}/models/espnetv2-voc/LICENSE.EdgeNets" MIT_TEXT)
+configure_file("${PROJECT_SOURCE_DIR}/cmake/copyright.in" "${PROJECT_BINARY_DIR}/copyright" @ONLY)
+install(FILES "${PROJECT_BINARY_DIR}/copyright" DESTINATION "${CMAKE_INSTALL_DOCDIR}")
 install(DIRECTORY "${PROJECT_SOURCE_DIR}/docs/" DESTINATION "${CMAKE_INSTALL_DOCDIR}")
 install(DIRECTORY "${PROJECT_SOURCE_DIR}/examples/" DESTINATION "${CMAKE_INSTALL_DOCDIR}/examples")
 
