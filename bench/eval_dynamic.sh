@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Table II of the dynamic filter (issue: dynamic feature rejection). For every walking and
+# Table II of the dynamic filter (dynamic feature rejection). For every walking and
 # sitting synthetic preset (and 7-Scenes with composited walking people, when ../shared is
 # there), runs semantic-mapper with the filter off, in the paper's mode and in the strong mode,
 # and prints a Markdown table: ATE RMSE / mean / median / S.D. per mode, the improvement

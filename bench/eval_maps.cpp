@@ -1,4 +1,4 @@
-// The semantic maps on a rendered sequence with full ground truth (maps issue): ground-truth
+// The semantic maps on a rendered sequence with full ground truth: ground-truth
 // poses and labels as the segmentation, dynamic points from the ground-truth dynamic mask (a
 // perfect dynamic filter, 12 px grid), Algorithm 1, then every keyframe into both maps.
 // Prints, for Algorithm 1 on and off:

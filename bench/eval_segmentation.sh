@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Segmentation quality (issue: semantic segmentation): the paper's Table III frame scores and
+# Segmentation quality: the paper's Table III frame scores and
 # per-class IoU of the ESPNetv2 network alone and of network + dense CRF, on sequences with
 # ground-truth labels: 7-Scenes with composited people (person only: elsewhere the labels are
 # unknown) and the synthetic presets (person, chair, tvmonitor). Prints a Markdown table.

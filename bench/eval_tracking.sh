@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Tracking accuracy table (issue: ORB-SLAM-style tracking). Renders the synthetic presets
+# Tracking accuracy table (ORB-SLAM-style tracking). Renders the synthetic presets
 # (cached under $SMAP_EVAL_CACHE, default /tmp/smap-eval-cache), runs semantic-mapper on each
 # and on ../shared/data/7scenes-redkitchen, and prints ATE RMSE / frames tracked per sequence.
 # Optional: SMAP_PEERS=1 also runs the peers on 7-Scenes: OpenCV's RgbdOdometry

@@ -3,7 +3,7 @@
 forward ... (PASSES passes, continuous motion, fresh 30 Hz timestamps, the reference poses
 carried along; every pass after the first starts at the frame after the turn, so the motion
 never stops). semantic-mapper runs on it and on one pass, each under /usr/bin/time -v, and the
-script prints what issue 36 asks of a long recording:
+script prints what a long recording asks of the mapper:
 
   keyframes               live keyframes at the end (metrics.json), and the ratio to one pass
   tracking cost           median tracking ms per frame over frames 1000-1999 and over the

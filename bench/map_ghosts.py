@@ -14,7 +14,7 @@ With --people COMPOSITE (an smap-synth folder: a --composite-onto composite or a
 ghosts are also split by where they are: "where a person was" are those within 0.5 m of the
 vertical axis of a person (from the feet up to 2 m, along meta.json's world_up, or z for a
 preset, whose world is z up) at some frame of objects/person*.txt,
-the issue's definition of people left in the map (points where a person was that the
+the definition of people left in the map (points where a person was that the
 people-free run does not produce); the rest are the two runs' other differences. The map is
 put in the composite's world frame by the run's trajectory.txt beside it (its first pose
 against the composite's groundtruth.txt). Stricter, "on a person's surface" are the ghosts

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Table II of issue 34: the kinds of human motion, composited into the 7-Scenes frames
+# Table II for the kinds of human motion: composited into the 7-Scenes frames
 # (smap-synth --composite-onto --scenario, colour camera geometry, SfM poses), and the synthetic
 # presets with people (smap-synth --preset); sequences cached under $SMAP_EVAL_CACHE (default
 # /tmp/smap-eval-cache). Each is tracked without people (the same frames of the original
@@ -16,8 +16,10 @@
 # Usage: bench/people_scenarios.sh [BUILD_DIR] [extra semantic-mapper args...]
 #   SMAP_SCENARIOS="NAME:FRAMES[:DISTANCE_SCALE] ..." (default: crossing:300 crowd:234
 #   crowd:234:1.7 seated:500 stop_and_stay:450; smap-synth --distance-scale, 1.7 puts the crowd
-#   where it covers up to about half the view, the crowd issue 34 describes)
+#   where it covers up to about half the view)
 #   SMAP_PRESETS="NAME ..." (default: walking_xyz walking_halfsphere sitting_xyz; 300 frames)
+#   SMAP_RUNS="RUN ..." (default: off paper default-no-semantic default): the runs with people
+#   Extra arguments apply to every run, e.g. --set input.stride=2 (every other frame: 15 Hz).
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 build="${1:-$root/build}"
@@ -91,7 +93,7 @@ render() {  # preset -> its folder (300 frames, cached)
 rows() {
     local name="$1" frames="$2" dir="$3" config="$4" free="$5" freeAte="$6" composite="$7"
     shift 7
-    for run in off paper default-no-semantic default; do
+    for run in ${SMAP_RUNS:-off paper default-no-semantic default}; do
         local o="$out/$name-$run"
         case "$run" in
             off) track "$dir" "$config" "$o" --set dynamic.mode=off "$@" ;;

@@ -1,8 +1,8 @@
 #!/usr/bin/python3
 """Per-frame tracking cost and end-to-end frames/s of two or more builds, run alternately.
 
-Issue 34's cost bound compares builds: the tracking and dynamic filter of one frame at most
-1.2x what an earlier commit took, and end-to-end frames/s on 7-Scenes within 10 %. Run both
+A cost bound compares builds: the tracking and dynamic filter of one frame against what an
+earlier commit took, and end-to-end frames/s on 7-Scenes. Run both
 builds one after the other, round after round, on the same machine (a shared machine drifts;
 alternating spreads the drift over both), and compare medians.
 
