@@ -136,3 +136,33 @@ TEST(SemanticMapper, TrackingNeverWaitsForALateSegmentation)
     EXPECT_GE(*age, 1u);
     mapper.finish();
 }
+
+// Time parameters count seconds of the recording: frames whose timestamps do not increase are
+// taken 1/30 s apart, so that keyframes are still made at least every second.
+TEST(SemanticMapper, FramesWithoutIncreasingTimestampsAreTakenANominalIntervalApart)
+{
+    sim::GeneratorOptions o;
+    o.preset = "static_xyz";
+    sim::SequenceGenerator gen(o);
+    pipeline::SemanticMapperParameters params;
+    params.segmentation.backend = "none";
+    params.tracking.keyframe_min_interval_s = 0.0;
+    params.tracking.keyframe_ref_ratio = 0.01;  // keyframes by time only
+    pipeline::SemanticMapper mapper(params);
+    mapper.setLoggingLevel(mrpt::system::LVL_ERROR);
+    constexpr size_t kFrames = 70;
+    for (size_t i = 0; i < kFrames; i++)
+    {
+        core::RgbdFrame f = gen.rgbdFrame(i);
+        f.timestamp = 7.0;  // a source that stamps every frame alike
+        mapper.process(f);
+    }
+    mapper.finish();
+    const core::Trajectory t = mapper.trajectory();
+    ASSERT_EQ(t.size(), kFrames);
+    EXPECT_DOUBLE_EQ(t.front().timestamp, 7.0);
+    for (size_t i = 1; i < t.size(); ++i)
+        EXPECT_NEAR(t[i].timestamp - t[i - 1].timestamp, 1.0 / 30.0, 1e-9) << i;
+    // Keyframe at frame 0, then one a second: frames 30 and 60.
+    EXPECT_GE(mapper.keyFrameTrajectory().size(), 3u);
+}

@@ -54,17 +54,36 @@ void SemanticMapper::setKeyFrameObserver(KeyFrameWorker::Observer observer)
     worker_->setObserver(std::move(observer));
 }
 
+double SemanticMapper::increasingTimestamp(double timestamp)
+{
+    // Time parameters count seconds of the recording: a source whose timestamps stall or run
+    // backwards would stop keyframes and age no mask. Such frames get the nominal interval.
+    constexpr double kNominalInterval_s = 1.0 / 30.0;
+    if (lastTimestamp_ && !(timestamp > *lastTimestamp_))
+    {
+        if (!timestampWarned_)
+            MRPT_LOG_WARN_FMT("frame timestamp %.6f s is not after the previous frame's (%.6f s): "
+                              "frames without increasing timestamps are taken %.3f s apart",
+                              timestamp, *lastTimestamp_, kNominalInterval_s);
+        timestampWarned_ = true;
+        timestamp = *lastTimestamp_ + kNominalInterval_s;
+    }
+    lastTimestamp_ = timestamp;
+    return timestamp;
+}
+
 SemanticMapper::PreparedFrame SemanticMapper::prepare(const core::RgbdFrame& frame)
 {
     PreparedFrame p;
     p.rgbd = frame;
+    p.rgbd.timestamp = increasingTimestamp(frame.timestamp);
     const auto t0 = std::chrono::steady_clock::now();
     // Regions the previous frame found moving get features last (people filling most of the
     // view would otherwise take most of the budget from the background).
-    p.features = slam_->prepare(frame, dynamicFilter_.moverRegions());
+    p.features = slam_->prepare(p.rgbd, dynamicFilter_.moverRegions());
     p.extraction_ms = core::millisecondsSince(t0);
     p.dynamic = dynamicFilter_.process(frame.colour, frame.depth, p.features.features, frame.camera,
-                                       frame.timestamp);
+                                       p.rgbd.timestamp);
     profiler_.registerUserMeasure("frame.extraction", p.extraction_ms / 1000.0, true);
     profiler_.registerUserMeasure("frame.dynamic", p.dynamic.total_ms / 1000.0, true);
     profiler_.registerUserMeasure("frame.dynamic.ego_motion", p.dynamic.ego_motion_ms / 1000.0,

@@ -155,6 +155,11 @@ private:
     /// The last tracked poses (tracker frame id, T_world_cam), newest last.
     std::deque<std::pair<uint64_t, Eigen::Isometry3d>> recentPoses_;
     std::deque<std::pair<uint64_t, double>> frameTimes_;  ///< oldest first
+    /// `timestamp`, or the previous frame's plus 1/30 s when it is not after it (warned once).
+    double increasingTimestamp(double timestamp);
+    /// The front end's last frame time (s), for increasingTimestamp.
+    std::optional<double> lastTimestamp_;
+    bool timestampWarned_ = false;
     uint64_t keyframes_ = 0;
     mrpt::system::CTimeLogger profiler_;
 };
