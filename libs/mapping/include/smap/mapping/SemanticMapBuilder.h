@@ -1,4 +1,4 @@
-// The map insertion policy of semantic-mapper (DESIGN.md "re-anchoring"): every keyframe's
+// The map insertion policy of semantic-mapper (docs/pipeline.md, "Refined keyframe poses"): every keyframe's
 // static pixels are back-projected once, in the keyframe's camera frame, thinned to one point
 // per voxel and kept as the keyframe's contribution; they are inserted into the semantic point
 // map and the semantic octomap at the keyframe's pose of the moment. When bundle adjustment has
