@@ -62,9 +62,10 @@ double SemanticMapper::increasingTimestamp(double timestamp)
     if (lastTimestamp_ && !(timestamp > *lastTimestamp_))
     {
         if (!timestampWarned_)
-            MRPT_LOG_WARN_FMT("frame timestamp %.6f s is not after the previous frame's (%.6f s): "
-                              "frames without increasing timestamps are taken %.3f s apart",
-                              timestamp, *lastTimestamp_, kNominalInterval_s);
+            MRPT_LOG_WARN_FMT(
+                "frame timestamp %.6f s is not after the previous frame's (%.6f s): "
+                "frames without increasing timestamps are taken %.3f s apart",
+                timestamp, *lastTimestamp_, kNominalInterval_s);
         timestampWarned_ = true;
         timestamp = *lastTimestamp_ + kNominalInterval_s;
     }

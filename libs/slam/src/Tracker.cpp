@@ -683,7 +683,7 @@ void Tracker::collectLocalPoints(const Frame& frame)
 // Keyframes that saw this place earlier but share no tracked points (the camera came back
 // after a detour): their points join the local map, so revisits match old points, fusion
 // links old and new keyframes, and local BA pulls them together.
-// Places older than revisit_max_frames are left to loop closing.
+// Places older than revisit_max_age_s are left to loop closing.
 void Tracker::joinRevisitedKeyFrames(const Frame& frame, std::set<uint64_t>& inLocal)
 {
     const Eigen::Isometry3d T_world_cam = frame.T_cam_world.inverse();

@@ -1,8 +1,8 @@
-// The map insertion policy of semantic-mapper (docs/pipeline.md, "Refined keyframe poses"): every keyframe's
-// static pixels are back-projected once, in the keyframe's camera frame, thinned to one point
-// per voxel and kept as the keyframe's contribution; they are inserted into the semantic point
-// map and the semantic octomap at the keyframe's pose of the moment. When bundle adjustment has
-// refined keyframe poses, reanchor() compares the final poses with the insertion poses and, if
+// The map insertion policy of semantic-mapper (docs/pipeline.md, "Refined keyframe poses"): every
+// keyframe's static pixels are back-projected once, in the keyframe's camera frame, thinned to one
+// point per voxel and kept as the keyframe's contribution; they are inserted into the semantic
+// point map and the semantic octomap at the keyframe's pose of the moment. When bundle adjustment
+// has refined keyframe poses, reanchor() compares the final poses with the insertion poses and, if
 // any keyframe moved more than the tolerance, rebuilds both maps from the contributions at the
 // final poses, in keyframe order: the final maps depend only on the final poses.
 #pragma once
