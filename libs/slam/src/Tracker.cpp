@@ -371,6 +371,7 @@ bool Tracker::initialise(Frame& frame)
         return false;
     state_ = TrackerState::Tracking;
     lastTracked_T_cam_world_ = frame.T_cam_world;
+    lastTrackedTime_ = frame.timestamp;
     recentPoses_.emplace_back(frame.id, frame.T_cam_world);
     MRPT_LOG_INFO_FMT("map initialised at frame %lu with %zu points",
                       static_cast<unsigned long>(frame.id), map_.points().size());
