@@ -23,7 +23,8 @@ shared="$root/../shared"
 presets="${SMAP_RESULTS_PRESETS:-walking_xyz walking_halfsphere walking_rpy sitting_xyz}"
 out_md="${SMAP_RESULTS_OUT:-$root/docs/results.md}"
 speed_runs="${SMAP_RESULTS_SPEED_RUNS:-3}"
-# the kinds of human motion (bench/people_scenarios.sh; its map_ghosts.py needs python3-open3d)
+# the kinds of human motion (bench/people_scenarios.sh; its map_ghosts.py needs python3-open3d and
+# python3-opencv)
 scenarios="${SMAP_RESULTS_SCENARIOS:-crossing:300 crowd:234 seated:500 stop_and_stay:450}"
 mkdir -p "$cache"
 seven="$shared/data/7scenes-redkitchen"
